@@ -1,0 +1,84 @@
+// swba: sliding-window bundle adjustment and graph-SLAM back end on MRPT.
+#include <cstring>
+#include <exception>
+#include <iostream>
+#include <string>
+
+#include "cli.h"
+#include "command.h"
+
+namespace swba::app
+{
+std::map<std::string, Command>& command_registry()
+{
+	static std::map<std::string, Command> registry;
+	return registry;
+}
+
+namespace
+{
+class OneLineOutput : public TCLAP::StdOutput
+{
+   public:
+	bool failed = false;
+	void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override
+	{
+		failed = true;
+		std::cerr << c.getProgramName() << ": error: " << e.error() << " [" << e.argId() << "]"
+				  << " (see --help)\n";
+	}
+};
+}  // namespace
+
+std::optional<int> parse_command_line(TCLAP::CmdLine& cmd, int argc, char** argv)
+{
+	OneLineOutput out;
+	cmd.setOutput(&out);
+	const bool ok = cmd.parse(argc, argv);
+	cmd.setOutput(nullptr);
+	if (ok) return std::nullopt;
+	return out.failed ? 2 : 0;
+}
+
+static void print_usage(std::ostream& os)
+{
+	os << "swba — sliding-window bundle adjustment and graph-SLAM back end on MRPT\n\n"
+		  "Usage: swba <command> [options]     (swba <command> --help for details)\n\nCommands:\n";
+	for (const auto& [name, c] : command_registry())
+		os << "  " << name << std::string(name.size() < 10 ? 10 - name.size() : 1, ' ') << c.summary
+		   << "\n";
+}
+}  // namespace swba::app
+
+int main(int argc, char** argv)
+{
+	using namespace swba::app;
+	if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") ||
+		!std::strcmp(argv[1], "help"))
+	{
+		print_usage(argc < 2 ? std::cerr : std::cout);
+		return argc < 2 ? 2 : 0;
+	}
+	const std::string name = argv[1];
+	auto& reg = command_registry();
+	auto it = reg.find(name);
+	if (it == reg.end())
+	{
+		std::cerr << "swba: error: unknown command '" << name << "' (see swba --help)\n";
+		return 2;
+	}
+	// argv[0] becomes "swba <name>" so that usage messages name the subcommand.
+	std::string prog = "swba " + name;
+	std::vector<char*> args;
+	args.push_back(prog.data());
+	for (int i = 2; i < argc; i++) args.push_back(argv[i]);
+	try
+	{
+		return it->second.run(static_cast<int>(args.size()), args.data());
+	}
+	catch (const std::exception& e)
+	{
+		std::cerr << prog << ": error: " << e.what() << "\n";
+		return 1;
+	}
+}

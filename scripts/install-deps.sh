@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Installs the Debian packages swba needs, only those missing (idempotent, non-interactive).
+set -euo pipefail
+pkgs=(cmake g++ make libeigen3-dev libsuitesparse-dev libgtest-dev
+	libmrpt-slam-dev libmrpt-tclap-dev mrpt-common
+	libceres-dev     # optional: benchmark peer only
+	gnuplot-nox)     # optional: headless plots
+missing=()
+for p in "${pkgs[@]}"; do
+	dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+echo "install-deps: installing ${missing[*]}" >&2
+sudo=""
+[ "$(id -u)" -ne 0 ] && sudo="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
