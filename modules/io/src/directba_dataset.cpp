@@ -1,0 +1,181 @@
+#include <swba/io/directba_dataset.h>
+
+#include <mrpt/img/CImage.h>
+
+#include <Eigen/Geometry>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <sys/stat.h>
+
+namespace swba::io
+{
+namespace
+{
+bool file_exists(const std::string& path)
+{
+	struct stat st
+	{
+	};
+	return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+/** Splits a line into numbers; throws with file:line if a token is not a finite number or the
+ * count differs from `expected`. Returns false for blank and '#' lines. */
+bool parse_numbers(const std::string& path, int line_no, const std::string& line, size_t expected,
+				   const char* what, std::vector<double>& out)
+{
+	out.clear();
+	std::istringstream ss(line);
+	std::string tok;
+	bool first = true;
+	while (ss >> tok)
+	{
+		if (first && tok[0] == '#') return false;
+		first = false;
+		errno = 0;
+		char* end = nullptr;
+		const double d = std::strtod(tok.c_str(), &end);
+		if (end == tok.c_str() || *end != '\0' || errno == ERANGE || !std::isfinite(d))
+			throw std::runtime_error(path + ":" + std::to_string(line_no) + ": '" + tok + "' is not a finite number");
+		out.push_back(d);
+	}
+	if (out.empty()) return false;
+	if (out.size() != expected)
+		throw std::runtime_error(path + ":" + std::to_string(line_no) + ": expected " + std::to_string(expected) +
+								 " columns (" + what + "), found " + std::to_string(out.size()));
+	return true;
+}
+
+std::ifstream open_or_throw(const std::string& path)
+{
+	if (!file_exists(path)) throw std::runtime_error(path + ": file not found");
+	std::ifstream f(path);
+	if (!f) throw std::runtime_error(path + ": cannot open for reading");
+	return f;
+}
+}  // namespace
+
+PatchCameraIntrinsics course_directba_intrinsics()
+{
+	PatchCameraIntrinsics K;
+	K.fx = 277.34;
+	K.fy = 291.402;
+	K.cx = 312.234;
+	K.cy = 239.777;
+	return K;
+}
+
+IntensityImage load_intensity_image(const std::string& path)
+{
+	if (!file_exists(path)) throw std::runtime_error(path + ": image file not found");
+	mrpt::img::CImage img;
+	bool ok = false;
+	try
+	{
+		ok = img.loadFromFile(path);
+	}
+	catch (const std::exception& e)
+	{
+		throw std::runtime_error(path + ": cannot decode image (" + e.what() + ")");
+	}
+	if (!ok || img.getWidth() == 0 || img.getHeight() == 0)
+		throw std::runtime_error(path + ": cannot decode image");
+	if (img.isColor()) img = img.grayscale();
+	if (img.getPixelDepth() != mrpt::img::PixelDepth::D8U)
+		throw std::runtime_error(path + ": only 8-bit images are supported");
+	IntensityImage out(static_cast<int>(img.getWidth()), static_cast<int>(img.getHeight()));
+	for (int r = 0; r < out.height; r++)
+	{
+		const uint8_t* line = img.ptrLine<uint8_t>(static_cast<unsigned>(r));
+		for (int c = 0; c < out.width; c++) out.at(c, r) = static_cast<float>(line[c]);
+	}
+	return out;
+}
+
+void read_directba_poses(const std::string& path, std::vector<double>& timestamps,
+						 std::vector<mrpt::poses::CPose3D>& world_from_camera)
+{
+	timestamps.clear();
+	world_from_camera.clear();
+	auto f = open_or_throw(path);
+	std::string line;
+	std::vector<double> v;
+	for (int line_no = 1; std::getline(f, line); line_no++)
+	{
+		if (!parse_numbers(path, line_no, line, 8, "t tx ty tz qx qy qz qw", v)) continue;
+		const Eigen::Quaterniond q_raw(v[7], v[4], v[5], v[6]);
+		if (q_raw.norm() < 1e-9)
+			throw std::runtime_error(path + ":" + std::to_string(line_no) + ": zero quaternion");
+		const Eigen::Matrix3d R_cw = q_raw.normalized().toRotationMatrix();
+		const Eigen::Vector3d t_cw(v[1], v[2], v[3]);
+		mrpt::math::CMatrixDouble33 R;
+		R.asEigen() = R_cw.transpose();
+		const Eigen::Vector3d t_wc = -R_cw.transpose() * t_cw;
+		timestamps.push_back(v[0]);
+		world_from_camera.emplace_back(R, mrpt::math::CVectorFixedDouble<3>({t_wc.x(), t_wc.y(), t_wc.z()}));
+	}
+	if (world_from_camera.empty()) throw std::runtime_error(path + ": no poses");
+}
+
+std::vector<DirectBAPoint> read_directba_points(const std::string& path)
+{
+	auto f = open_or_throw(path);
+	std::vector<DirectBAPoint> points;
+	std::string line;
+	std::vector<double> v;
+	for (int line_no = 1; std::getline(f, line); line_no++)
+	{
+		if (!parse_numbers(path, line_no, line, 3 + kPatchSize, "x y z + 16 patch values", v)) continue;
+		DirectBAPoint p;
+		p.position = Eigen::Vector3d(v[0], v[1], v[2]);
+		for (int k = 0; k < kPatchSize; k++) p.patch[k] = v[3 + k];
+		points.push_back(p);
+	}
+	if (points.empty()) throw std::runtime_error(path + ": no points");
+	return points;
+}
+
+DirectBADataset read_directba_dataset(const std::string& dir, const PatchCameraIntrinsics& intrinsics)
+{
+	DirectBADataset ds;
+	ds.intrinsics = intrinsics;
+	const std::string base = dir.empty() ? std::string(".") : dir;
+	read_directba_poses(base + "/poses.txt", ds.timestamps, ds.world_from_camera);
+	ds.points = read_directba_points(base + "/points.txt");
+	for (size_t i = 0; i < ds.world_from_camera.size(); i++)
+	{
+		auto img = std::make_shared<IntensityImage>(load_intensity_image(base + "/" + std::to_string(i) + ".png"));
+		if (!ds.images.empty() && (img->width != ds.images[0]->width || img->height != ds.images[0]->height))
+			throw std::runtime_error(base + "/" + std::to_string(i) + ".png: size " + std::to_string(img->width) + "x" +
+									 std::to_string(img->height) + " differs from image 0");
+		ds.images.push_back(std::move(img));
+	}
+	return ds;
+}
+
+void write_directba_tum(const std::string& path, const std::vector<double>& timestamps,
+						const std::vector<mrpt::poses::CPose3D>& world_from_camera)
+{
+	if (timestamps.size() != world_from_camera.size())
+		throw std::invalid_argument("write_directba_tum: timestamps and poses differ in number");
+	std::ofstream f(path);
+	if (!f) throw std::runtime_error(path + ": cannot open for writing");
+	char buf[256];
+	for (size_t i = 0; i < timestamps.size(); i++)
+	{
+		const auto& P = world_from_camera[i];
+		Eigen::Quaterniond q(Eigen::Matrix3d(P.getRotationMatrix().asEigen()));
+		q.normalize();
+		if (q.w() < 0) q.coeffs() = -q.coeffs();  // deterministic sign
+		std::snprintf(buf, sizeof(buf), "%.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", timestamps[i], P.x(), P.y(),
+					  P.z(), q.x(), q.y(), q.z(), q.w());
+		f << buf;
+	}
+	if (!f) throw std::runtime_error(path + ": write failed");
+}
+}  // namespace swba::io
