@@ -1,0 +1,348 @@
+#include <swba/core/manifold.h>
+#include <swba/factors/snavely_reprojection.h>
+#include <swba/io/bal.h>
+#include <swba/io/ply.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string_view>
+
+#ifdef SWBA_HAVE_BZIP2
+#include <bzlib.h>
+#endif
+
+namespace swba::io
+{
+BalParseError::BalParseError(const std::string& source, int line, const std::string& reason)
+	: std::runtime_error(source + ":" + std::to_string(line) + ": " + reason), line_(line)
+{
+}
+
+namespace
+{
+/** Splits the text into whitespace-separated tokens and keeps track of line numbers. */
+class Scanner
+{
+   public:
+	explicit Scanner(const std::string& text) : p_(text.data()), end_(text.data() + text.size()) {}
+
+	/** Next token on any line; false at the end of the text. `line` is the token's line. */
+	bool next(std::string_view& token, int& line)
+	{
+		skip_space(true);
+		if (p_ == end_) return false;
+		line = line_;
+		token = take_token();
+		return true;
+	}
+
+	/** All tokens of the next non-blank line; false at the end of the text. */
+	bool next_line(std::vector<std::string_view>& tokens, int& line)
+	{
+		tokens.clear();
+		skip_space(true);
+		if (p_ == end_) return false;
+		line = line_;
+		while (p_ != end_ && *p_ != '\n')
+		{
+			tokens.push_back(take_token());
+			skip_space(false);
+		}
+		return true;
+	}
+
+	/** Line of the current position (after the last token read). */
+	int line() const { return line_; }
+
+   private:
+	static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+	void skip_space(bool newlines)
+	{
+		while (p_ != end_ && (is_space(*p_) || (newlines && *p_ == '\n')))
+		{
+			if (*p_ == '\n') line_++;
+			p_++;
+		}
+	}
+	std::string_view take_token()
+	{
+		const char* b = p_;
+		while (p_ != end_ && !is_space(*p_) && *p_ != '\n') p_++;
+		return std::string_view(b, static_cast<size_t>(p_ - b));
+	}
+
+	const char* p_;
+	const char* end_;
+	int line_ = 1;
+};
+
+std::string quoted(std::string_view t)
+{
+	std::string s(t.substr(0, 40));
+	if (t.size() > 40) s += "...";
+	return "'" + s + "'";
+}
+
+class Parser
+{
+   public:
+	Parser(const std::string& text, std::string source) : scan_(text), source_(std::move(source)) {}
+
+	BalProblem parse()
+	{
+		BalProblem bal;
+		std::vector<std::string_view> tok;
+		int line = 1;
+		if (!scan_.next_line(tok, line)) fail(1, "empty file: expected the header 'num_cameras num_points num_observations'");
+		if (tok.size() != 3)
+			fail(line, "header must have 3 integers 'num_cameras num_points num_observations', found " +
+						   std::to_string(tok.size()) + " values");
+		bal.num_cameras = parse_count(tok[0], line, "num_cameras");
+		bal.num_points = parse_count(tok[1], line, "num_points");
+		const int num_obs = parse_count(tok[2], line, "num_observations");
+
+		bal.observations.resize(static_cast<size_t>(num_obs));
+		for (int k = 0; k < num_obs; k++)
+		{
+			if (!scan_.next_line(tok, line))
+				fail(scan_.line(), "truncated file: the header declares " + std::to_string(num_obs) +
+									   " observations, found only " + std::to_string(k));
+			if (tok.size() != 4)
+				fail(line, "expected observation " + std::to_string(k + 1) + " of " + std::to_string(num_obs) +
+							   " as 'camera point x y', found " + std::to_string(tok.size()) +
+							   " values (count mismatch with the header?)");
+			BalObservation& o = bal.observations[static_cast<size_t>(k)];
+			o.camera = parse_index(tok[0], line, "camera", bal.num_cameras);
+			o.point = parse_index(tok[1], line, "point", bal.num_points);
+			o.x = parse_number(tok[2], line);
+			o.y = parse_number(tok[3], line);
+		}
+
+		const size_t num_cam_values = BalProblem::kCameraParams * static_cast<size_t>(bal.num_cameras);
+		const size_t num_point_values = BalProblem::kPointParams * static_cast<size_t>(bal.num_points);
+		bal.cameras.resize(num_cam_values);
+		bal.points.resize(num_point_values);
+		const size_t total = num_cam_values + num_point_values;
+		std::string_view t;
+		for (size_t i = 0; i < total; i++)
+		{
+			if (!scan_.next(t, line))
+			{
+				std::string where;
+				if (i < num_cam_values)
+					where = "camera " + std::to_string(i / BalProblem::kCameraParams) + " parameter " +
+							std::to_string(i % BalProblem::kCameraParams);
+				else
+				{
+					const size_t j = i - num_cam_values;
+					where = "point " + std::to_string(j / BalProblem::kPointParams) + " coordinate " +
+							std::to_string(j % BalProblem::kPointParams);
+				}
+				fail(scan_.line(), "truncated file: expected " + std::to_string(total) +
+									   " camera and point parameters after the observations, found only " +
+									   std::to_string(i) + " (missing " + where + ")");
+			}
+			const double v = parse_number(t, line);
+			if (i < num_cam_values)
+				bal.cameras[i] = v;
+			else
+				bal.points[i - num_cam_values] = v;
+		}
+		if (scan_.next(t, line))
+			fail(line, "count mismatch: extra data " + quoted(t) + " after the " + std::to_string(bal.num_cameras) +
+						   " cameras and " + std::to_string(bal.num_points) + " points declared by the header");
+		return bal;
+	}
+
+   private:
+	[[noreturn]] void fail(int line, const std::string& reason) const { throw BalParseError(source_, line, reason); }
+
+	long parse_integer(std::string_view t, int line, const char* what) const
+	{
+		long v = 0;
+		const char* b = t.data();
+		const char* e = b + t.size();
+		if (b != e && *b == '+') b++;
+		auto [ptr, ec] = std::from_chars(b, e, v);
+		if (ec != std::errc() || ptr != e) fail(line, std::string("expected an integer ") + what + ", found " + quoted(t));
+		return v;
+	}
+	int parse_count(std::string_view t, int line, const char* what) const
+	{
+		const long v = parse_integer(t, line, what);
+		if (v <= 0 || v > 1000000000L) fail(line, std::string(what) + " must be positive, found " + quoted(t));
+		return static_cast<int>(v);
+	}
+	int parse_index(std::string_view t, int line, const char* what, int count) const
+	{
+		const long v = parse_integer(t, line, (std::string(what) + " index").c_str());
+		if (v < 0 || v >= count)
+			fail(line, std::string(what) + " index " + std::to_string(v) + " out of range [0, " + std::to_string(count) +
+						   ")");
+		return static_cast<int>(v);
+	}
+	double parse_number(std::string_view t, int line) const
+	{
+		double v = 0;
+		const char* b = t.data();
+		const char* e = b + t.size();
+		if (b != e && *b == '+') b++;
+		auto [ptr, ec] = std::from_chars(b, e, v);
+		if (ec == std::errc::result_out_of_range) fail(line, "number out of the range of double: " + quoted(t));
+		if (ec != std::errc() || ptr != e) fail(line, "expected a number, found " + quoted(t));
+		if (!std::isfinite(v)) fail(line, "non-finite number " + quoted(t));
+		return v;
+	}
+
+	Scanner scan_;
+	std::string source_;
+};
+
+#ifdef SWBA_HAVE_BZIP2
+std::string bunzip2(const std::string& compressed, const std::string& path)
+{
+	bz_stream s{};
+	if (BZ2_bzDecompressInit(&s, 0, 0) != BZ_OK) throw std::runtime_error(path + ": bzip2 initialisation failed");
+	std::string out;
+	char buf[1 << 16];
+	s.next_in = const_cast<char*>(compressed.data());
+	s.avail_in = static_cast<unsigned>(compressed.size());
+	int rc = BZ_OK;
+	while (rc == BZ_OK)
+	{
+		s.next_out = buf;
+		s.avail_out = sizeof(buf);
+		rc = BZ2_bzDecompress(&s);
+		out.append(buf, sizeof(buf) - s.avail_out);
+		if (rc == BZ_OK && s.avail_in == 0 && s.avail_out != 0) break;  // input ended before the stream end
+	}
+	BZ2_bzDecompressEnd(&s);
+	if (rc != BZ_STREAM_END) throw std::runtime_error(path + ": corrupt or truncated bzip2 data");
+	return out;
+}
+#endif
+}  // namespace
+
+bool bal_bzip2_supported()
+{
+#ifdef SWBA_HAVE_BZIP2
+	return true;
+#else
+	return false;
+#endif
+}
+
+BalProblem parse_bal(const std::string& text, const std::string& source) { return Parser(text, source).parse(); }
+
+BalProblem read_bal(const std::string& path)
+{
+	std::ifstream f(path, std::ios::binary);
+	if (!f) throw std::runtime_error(path + ": cannot open");
+	std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+	if (f.bad()) throw std::runtime_error(path + ": read error");
+	if (text.size() >= 3 && text.compare(0, 3, "BZh") == 0)
+	{
+#ifdef SWBA_HAVE_BZIP2
+		text = bunzip2(text, path);
+#else
+		throw std::runtime_error(path + ": bzip2-compressed, but this build has no libbz2 support (decompress it "
+										"with bunzip2 first)");
+#endif
+	}
+	return parse_bal(text, path);
+}
+
+void write_bal(const std::string& path, const BalProblem& bal)
+{
+	std::FILE* f = std::fopen(path.c_str(), "w");
+	if (!f) throw std::runtime_error(path + ": cannot open for writing");
+	std::fprintf(f, "%d %d %zu\n", bal.num_cameras, bal.num_points, bal.observations.size());
+	for (const auto& o : bal.observations) std::fprintf(f, "%d %d %.17g %.17g\n", o.camera, o.point, o.x, o.y);
+	for (double v : bal.cameras) std::fprintf(f, "%.17g\n", v);
+	for (double v : bal.points) std::fprintf(f, "%.17g\n", v);
+	const bool ok = !std::ferror(f);
+	if (std::fclose(f) != 0 || !ok) throw std::runtime_error(path + ": write failed");
+}
+
+int count_observations_behind_camera(const BalProblem& bal)
+{
+	int n = 0;
+	for (const auto& o : bal.observations)
+	{
+		const double* cam = bal.camera(o.camera);
+		const Eigen::Vector3d P =
+			angle_axis_rotate_point(cam, Eigen::Map<const Eigen::Vector3d>(bal.point(o.point))) +
+			Eigen::Vector3d(cam[3], cam[4], cam[5]);
+		if (P.z() >= 0.0) n++;
+	}
+	return n;
+}
+
+std::vector<Eigen::Vector3d> bal_camera_centres(const BalProblem& bal)
+{
+	std::vector<Eigen::Vector3d> c;
+	c.reserve(static_cast<size_t>(bal.num_cameras));
+	for (int i = 0; i < bal.num_cameras; i++) c.push_back(snavely_camera_centre(bal.camera(i)));
+	return c;
+}
+
+void write_bal_ply(const std::string& path, const BalProblem& bal)
+{
+	std::vector<Eigen::Vector3d> pts;
+	pts.reserve(static_cast<size_t>(bal.num_points));
+	for (int j = 0; j < bal.num_points; j++) pts.emplace_back(Eigen::Map<const Eigen::Vector3d>(bal.point(j)));
+	write_ply(path, bal_camera_centres(bal), pts);
+}
+
+BalVariables add_bal_to_problem(const BalProblem& bal, Problem& problem, std::shared_ptr<const LossFunction> loss)
+{
+	BalVariables vars;
+	const auto cam_manifold = euclidean_manifold(BalProblem::kCameraParams);
+	const auto point_manifold = euclidean_manifold(BalProblem::kPointParams);
+	vars.cameras.reserve(static_cast<size_t>(bal.num_cameras));
+	vars.points.reserve(static_cast<size_t>(bal.num_points));
+	for (int i = 0; i < bal.num_cameras; i++)
+		vars.cameras.push_back(problem.add_variable(bal.camera(i), cam_manifold, Group::Kept));
+	for (int j = 0; j < bal.num_points; j++)
+		vars.points.push_back(problem.add_variable(bal.point(j), point_manifold, Group::Eliminable));
+	std::vector<char> cam_seen(static_cast<size_t>(bal.num_cameras), 0), point_seen(static_cast<size_t>(bal.num_points), 0);
+	for (const auto& o : bal.observations)
+	{
+		problem.add_factor(std::make_shared<SnavelyReprojectionFactor>(o.x, o.y),
+						   {vars.cameras[static_cast<size_t>(o.camera)], vars.points[static_cast<size_t>(o.point)]}, loss);
+		cam_seen[static_cast<size_t>(o.camera)] = 1;
+		point_seen[static_cast<size_t>(o.point)] = 1;
+	}
+	for (int i = 0; i < bal.num_cameras; i++)
+		if (!cam_seen[static_cast<size_t>(i)])
+		{
+			problem.set_constant(vars.cameras[static_cast<size_t>(i)]);
+			vars.num_unobserved_cameras++;
+		}
+	for (int j = 0; j < bal.num_points; j++)
+		if (!point_seen[static_cast<size_t>(j)])
+		{
+			problem.set_constant(vars.points[static_cast<size_t>(j)]);
+			vars.num_unobserved_points++;
+		}
+	return vars;
+}
+
+void copy_values_to_bal(const Problem& problem, const BalVariables& vars, BalProblem& bal)
+{
+	for (int i = 0; i < bal.num_cameras; i++)
+	{
+		const double* v = problem.value(vars.cameras[static_cast<size_t>(i)]);
+		std::copy(v, v + BalProblem::kCameraParams, bal.camera(i));
+	}
+	for (int j = 0; j < bal.num_points; j++)
+	{
+		const double* v = problem.value(vars.points[static_cast<size_t>(j)]);
+		std::copy(v, v + BalProblem::kPointParams, bal.point(j));
+	}
+}
+}  // namespace swba::io
