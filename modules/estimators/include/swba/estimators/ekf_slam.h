@@ -1,0 +1,78 @@
+/** \file ekf_slam.h
+ * MRPT's EKF range-bearing SLAM (mrpt::slam::CRangeBearingKFSLAM, 6D robot + 3D landmarks) run
+ * in-process over the steps of a rawlog, as the peer of the window estimator. An MRPT exception
+ * (the EKF throws on kf-slam_6D_demo_noncentered) is recorded, never propagated. */
+#pragma once
+
+#include <swba/io/rawlog.h>
+
+#include <mrpt/poses/CPose3D.h>
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace swba::estimators
+{
+/** Options of run_ekf_slam(). Precedence for each value: this struct > the INI file > default. */
+struct EkfSlamOptions
+{
+	/** Kalman-filter method by MRPT's name: "kfEKFNaive", "kfEKFAlaDavison", "kfIKFFull", "kfIKF".
+	 * Unset: the INI's `method` if an INI is given, else "kfEKFAlaDavison" (the kf-slam INIs' choice). */
+	std::optional<std::string> method;
+	/** Optional kf-slam INI (e.g. /usr/share/mrpt/config_files/kf-slam/EKF-SLAM_6D_test.ini); its
+	 * sections [RangeBearingKFSLAM] and [RangeBearingKFSLAM_KalmanFilter] are loaded. Default: none. */
+	std::string ini_file;
+	/** Sensor noise given to the EKF: range in metres, yaw and pitch in degrees. Unset: the INI's
+	 * std_sensor_* if an INI is given, else the observation's own sensor_std_* (first step that has
+	 * a bearing-range observation; a zero std there, as 2D sensors give for pitch, keeps MRPT's
+	 * default and is noted in EkfSlamResult::notes). */
+	std::optional<double> std_range_m, std_yaw_deg, std_pitch_deg;
+	/** Additional std of z in the motion model, metres (MRPT's std_odo_z_additional). Unset: the INI's,
+	 * else MRPT's default 0. */
+	std::optional<double> std_odo_z_additional_m;
+	/** Process at most this many steps (0 = all). Default 0. */
+	std::size_t max_steps = 0;
+	/** Called after every step with (steps done, total steps); may be empty. Default empty. */
+	std::function<void(std::size_t, std::size_t)> progress;
+	/** Keep MRPT's console output (its log messages and CTimeLogger table). Default false: silent. */
+	bool mrpt_verbose = false;
+};
+
+/** What run_ekf_slam() produced. */
+struct EkfSlamResult
+{
+	std::string method;	 ///< the method used (MRPT's name)
+	double std_range_m = 0, std_yaw_deg = 0, std_pitch_deg = 0;	 ///< the sensor noise used
+	/** times[i] = k + 1 and poses[i] = robot pose mean after step k, for every processed step. */
+	std::vector<double> times;
+	std::vector<mrpt::poses::CPose3D> poses;
+	std::size_t steps_total = 0;  ///< steps given (after max_steps)
+	std::size_t steps_processed = 0;  ///< steps that completed
+	double seconds = 0;	 ///< wall time inside processActionObservation (all processed steps)
+	double ms_per_step = 0;	 ///< seconds·1000 / steps_processed (0 if none)
+	std::size_t landmarks = 0;	///< landmarks in the filter's map at the end
+	/** True when MRPT threw: `failed_step` is the step k whose processing threw (its pose is not
+	 * kept), `failure` a one-line message. */
+	bool failed = false;
+	std::size_t failed_step = 0;
+	std::string failure;
+	std::string failure_details;  ///< the full exception text (MRPT's include a call trace)
+	/** How the options were resolved when something was not as asked (e.g. a zero observation std). */
+	std::string notes;
+	/** MRPT warnings logged by the filter (e.g. "LMs were not correctly predicted"), counted. */
+	std::size_t mrpt_warnings = 0;
+	std::string first_mrpt_warning;
+};
+
+/** Parses a method name ("kfEKFNaive", …, or the number 0..3); throws std::invalid_argument listing
+ * the valid names otherwise. */
+int ekf_method_from_name(const std::string& name);
+
+/** Runs MRPT's CRangeBearingKFSLAM over `steps` (from swba::io::read_rawlog). Throws
+ * std::invalid_argument / std::runtime_error only for bad options (unknown method, missing INI,
+ * non-positive noise, empty steps); an exception of MRPT during a step is recorded in the result. */
+EkfSlamResult run_ekf_slam(const std::vector<io::RawlogStep>& steps, const EkfSlamOptions& options = {});
+}  // namespace swba::estimators

@@ -1,0 +1,142 @@
+#include <swba/estimators/ekf_slam.h>
+
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/slam/CRangeBearingKFSLAM.h>
+#include <mrpt/system/filesystem.h>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace swba::estimators
+{
+int ekf_method_from_name(const std::string& name)
+{
+	static const char* names[] = {"kfEKFNaive", "kfEKFAlaDavison", "kfIKFFull", "kfIKF"};
+	for (int i = 0; i < 4; i++)
+		if (name == names[i] || name == std::to_string(i)) return i;
+	throw std::invalid_argument(
+		"unknown EKF method '" + name + "' (valid: kfEKFNaive, kfEKFAlaDavison, kfIKFFull, kfIKF)");
+}
+
+EkfSlamResult run_ekf_slam(const std::vector<io::RawlogStep>& steps, const EkfSlamOptions& options)
+{
+	using mrpt::bayes::TKFMethod;
+	EkfSlamResult res;
+	if (steps.empty()) throw std::invalid_argument("run_ekf_slam: no steps");
+	const std::size_t n = options.max_steps ? std::min(options.max_steps, steps.size()) : steps.size();
+	res.steps_total = n;
+
+	mrpt::slam::CRangeBearingKFSLAM ekf;
+	if (!options.ini_file.empty())
+	{
+		if (!mrpt::system::fileExists(options.ini_file))
+			throw std::runtime_error("EKF INI file '" + options.ini_file + "' does not exist");
+		ekf.loadOptions(mrpt::config::CConfigFile(options.ini_file));
+	}
+	else
+	{
+		ekf.KF_options.method = TKFMethod::kfEKFAlaDavison;
+		const io::RawlogStep* with_obs = nullptr;
+		for (const auto& s : steps)
+			if (s.has_observation)
+			{
+				with_obs = &s;
+				break;
+			}
+		if (with_obs)
+		{
+			// A zero std means "not given" (2D sensors have sensor_std_pitch = 0): keep MRPT's default.
+			auto take = [&res](double v, float& dst, const char* name) {
+				if (v > 0)
+					dst = static_cast<float>(v);
+				else
+					res.notes += std::string(res.notes.empty() ? "" : "; ") + "the observation's " + name +
+						" is 0: MRPT's default kept";
+			};
+			take(with_obs->sensor_std_range, ekf.options.std_sensor_range, "sensor_std_range");
+			take(with_obs->sensor_std_yaw, ekf.options.std_sensor_yaw, "sensor_std_yaw");
+			take(with_obs->sensor_std_pitch, ekf.options.std_sensor_pitch, "sensor_std_pitch");
+		}
+	}
+	if (options.method) ekf.KF_options.method = static_cast<TKFMethod>(ekf_method_from_name(*options.method));
+	auto check = [](double v, const char* what) {
+		if (!(v > 0) || !std::isfinite(v))
+			throw std::invalid_argument(std::string("EKF option ") + what + " must be finite and > 0");
+		return v;
+	};
+	if (options.std_range_m) ekf.options.std_sensor_range = static_cast<float>(check(*options.std_range_m, "std_range_m"));
+	if (options.std_yaw_deg)
+		ekf.options.std_sensor_yaw = static_cast<float>(mrpt::DEG2RAD(check(*options.std_yaw_deg, "std_yaw_deg")));
+	if (options.std_pitch_deg)
+		ekf.options.std_sensor_pitch =
+			static_cast<float>(mrpt::DEG2RAD(check(*options.std_pitch_deg, "std_pitch_deg")));
+	if (options.std_odo_z_additional_m)
+	{
+		if (!(*options.std_odo_z_additional_m >= 0))
+			throw std::invalid_argument("EKF option std_odo_z_additional_m must be >= 0");
+		ekf.options.std_odo_z_additional = static_cast<float>(*options.std_odo_z_additional_m);
+	}
+	check(ekf.options.std_sensor_range, "std_range_m");
+	check(ekf.options.std_sensor_yaw, "std_yaw_deg");
+	check(ekf.options.std_sensor_pitch, "std_pitch_deg");
+
+	res.method = mrpt::typemeta::TEnumType<TKFMethod>::value2name(ekf.KF_options.method);
+	res.std_range_m = ekf.options.std_sensor_range;
+	res.std_yaw_deg = mrpt::RAD2DEG(double(ekf.options.std_sensor_yaw));
+	res.std_pitch_deg = mrpt::RAD2DEG(double(ekf.options.std_sensor_pitch));
+
+	// Silence: no console logging, no profiler table; warnings are counted through a callback.
+	if (!options.mrpt_verbose)
+	{
+		ekf.logging_enable_console_output = false;
+		ekf.setMinLoggingLevel(mrpt::system::LVL_WARN);
+		ekf.getProfiler().enable(false);
+	}
+	ekf.logRegisterCallback([&res](std::string_view msg, const mrpt::system::VerbosityLevel level,
+								   std::string_view, const mrpt::Clock::time_point) {
+		if (level < mrpt::system::LVL_WARN) return;
+		if (res.mrpt_warnings++ == 0) res.first_mrpt_warning = io::mrpt_exception_summary(std::string(msg));
+	});
+
+	res.times.reserve(n);
+	res.poses.reserve(n);
+	double seconds = 0;
+	for (std::size_t k = 0; k < n; k++)
+	{
+		mrpt::obs::CActionCollection::Ptr acts = steps[k].actions;
+		mrpt::obs::CSensoryFrame::Ptr sf = steps[k].observations;
+		if (!acts || !sf)
+		{
+			res.failed = true;
+			res.failed_step = k;
+			res.failure = "step " + std::to_string(k) + " has no action collection or sensory frame";
+			break;
+		}
+		const auto t0 = std::chrono::steady_clock::now();
+		try
+		{
+			ekf.processActionObservation(acts, sf);
+		}
+		catch (const std::exception& e)
+		{
+			seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+			res.failed = true;
+			res.failed_step = k;
+			res.failure = io::mrpt_exception_summary(e.what());
+			res.failure_details = e.what();
+			break;
+		}
+		seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+		res.times.push_back(steps[k].time());
+		res.poses.emplace_back(ekf.getCurrentRobotPoseMean());
+		res.steps_processed++;
+		if (options.progress) options.progress(k + 1, n);
+	}
+	res.seconds = seconds;
+	res.ms_per_step = res.steps_processed ? 1e3 * seconds / double(res.steps_processed) : 0.0;
+	res.landmarks = ekf.getNumberOfLandmarksInTheMap();
+	return res;
+}
+}  // namespace swba::estimators

@@ -1,0 +1,149 @@
+/** \file rawlog.h
+ * MRPT rawlogs with odometry + range-bearing landmark observations (the kf-slam demos and what
+ * `simul-landmarks` writes), read into a vector of steps; and the odometry covariance converted
+ * into the information matrix of an SE(3) between-factor in MRPT's pseudo-log tangent space.
+ *
+ * Step pairing (as CRawlog::readActionObservationPair and MRPT's kf-slam app): objects before the
+ * first CActionCollection are skipped; step k = (the k-th CActionCollection, the next CSensoryFrame).
+ * On the kf-slam demos (stored SF0, AC0, SF1, AC1, …) step k = (AC_k, SF_{k+1}): 599 steps from 600
+ * poses. The estimate after step k has time t = k + 1 and pairs with ground-truth row k + 1. */
+#pragma once
+
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/poses/CPose3DPDFGaussian.h>
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace swba::io
+{
+/** One landmark reading of a CObservationBearingRange, in the sensor frame:
+ * l = sensor⁻¹ ⊕ landmark, range = |l|, yaw = atan2(l.y, l.x), pitch = −asin(l.z / range). */
+struct RangeBearingReading
+{
+	int32_t landmark_id = -1;  ///< MRPT's landmarkID (−1: unknown, needs data association)
+	double range = 0.0;	 ///< metres
+	double yaw = 0.0;  ///< radians
+	double pitch = 0.0;	 ///< radians
+};
+
+/** One estimator step: the odometry from the previous pose and the observations at the new pose. */
+struct RawlogStep
+{
+	std::size_t index = 0;	///< k (0-based)
+	std::size_t action_entry = 0;  ///< rawlog entry (object index, 0-based) of the action collection
+	std::size_t frame_entry = 0;  ///< rawlog entry of the sensory frame
+	/** Trajectory time of the estimate after this step (the step index is the clock). */
+	double time() const { return static_cast<double>(index + 1); }
+
+	/** False when the action collection holds no robot movement (then `odometry` is the identity
+	 * with a zero covariance). */
+	bool has_odometry = false;
+	/** True when the odometry came from a CActionRobotMovement2D (lifted to 3D: z, pitch and roll
+	 * are 0 with zero variance). */
+	bool odometry_is_2d = false;
+	/** Pose increment, mean and 6×6 covariance in MRPT's (x, y, z, yaw, pitch, roll) order. */
+	mrpt::poses::CPose3DPDFGaussian odometry;
+
+	/** False when the sensory frame holds no CObservationBearingRange (then `readings` is empty
+	 * and the sensor fields below are copied from the previous step, or defaults). */
+	bool has_observation = false;
+	/** Valid readings (bad ones are dropped and counted in `skipped_readings`). */
+	std::vector<RangeBearingReading> readings;
+	std::size_t skipped_readings = 0;
+	/** CObservationBearingRange::sensorLocationOnRobot. */
+	mrpt::poses::CPose3D sensor_pose;
+	/** The observation's own noise (sensor_std_range in metres, _yaw/_pitch in radians). */
+	double sensor_std_range = 0.0, sensor_std_yaw = 0.0, sensor_std_pitch = 0.0;
+
+	/** The objects as read (for MRPT's EKF). When readings were dropped as invalid, `observations`
+	 * is a copy whose bearing-range observations hold only the valid readings, so that every
+	 * consumer sees the same data. */
+	mrpt::obs::CActionCollection::Ptr actions;
+	mrpt::obs::CSensoryFrame::Ptr observations;
+};
+
+/** Options of read_rawlog(). */
+struct RawlogReaderOptions
+{
+	/** Readings with landmarkID < 0 are invalid (skipped with a counted warning). Default: true
+	 * (no data association here). */
+	bool require_landmark_ids = true;
+	/** A truncated or corrupt rawlog is an error (default). When true, the complete steps read
+	 * before the damage are kept and `Rawlog::truncated` is set with a warning. */
+	bool allow_truncated = false;
+	/** Read at most this many steps (0 = all). Default 0. */
+	std::size_t max_steps = 0;
+	/** At most this many warning texts are kept in `Rawlog::warnings` (all are counted). Default 20. */
+	std::size_t max_warning_texts = 20;
+};
+
+/** A rawlog read into steps, with counts for reports. */
+struct Rawlog
+{
+	std::string path;
+	std::vector<RawlogStep> steps;
+	std::size_t entries = 0;  ///< objects read from the file
+	std::size_t ignored_entries = 0;  ///< objects not used (leading SF0, trailing action, other types)
+	std::size_t steps_with_odometry = 0;
+	std::size_t steps_with_2d_odometry = 0;
+	std::size_t steps_without_observation = 0;
+	std::size_t readings = 0;  ///< valid readings kept
+	std::size_t skipped_readings = 0;  ///< invalid readings dropped (NaN / ≤ 0 range, bad angles, id < 0)
+	std::size_t distinct_landmarks = 0;	 ///< distinct landmark IDs among the valid readings
+	bool truncated = false;	 ///< only with RawlogReaderOptions::allow_truncated
+	std::size_t warning_count = 0;
+	std::vector<std::string> warnings;	///< the first max_warning_texts warnings, one line each
+};
+
+/** Reads a whole rawlog (gzip-compressed or plain). Throws std::runtime_error naming the file and
+ * the entry/step when: the file is missing or unreadable; it is not a rawlog; it is truncated or
+ * corrupt (unless allow_truncated; gzip truncation is also detected when it ends on an object
+ * boundary, through the gzip trailer's size); it yields no step; no step has odometry; no step has
+ * a valid range-bearing reading; an odometry mean or covariance is not finite, or a covariance has
+ * a negative variance; a sensory frame holds several bearing-range observations with different
+ * sensor poses. Single invalid readings are dropped and counted (see RawlogStep::skipped_readings). */
+Rawlog read_rawlog(const std::string& path, const RawlogReaderOptions& options = {});
+
+/** One line from an exception text: for MRPT's ("==== MRPT exception ====", "Message: …",
+ * "Location: …", call stack) the message and "File.cpp:line"; otherwise the first non-empty line. */
+std::string mrpt_exception_summary(const std::string& what);
+
+/** Reads an MRPT ground-truth robot path (`%` comment lines, then `x y z yaw pitch roll` per row;
+ * row i is the true pose when SF_i was taken, time t = i). Throws std::runtime_error naming the file
+ * and line on a missing file, a row with a column count other than 6, or a non-finite value. */
+std::vector<mrpt::poses::CPose3D> read_ground_truth_path(const std::string& path);
+
+/** J = ∂ Log(Z⁻¹ · Z(ypr + d)) / ∂d at d = 0, for Z = `mean`, d a perturbation of MRPT's
+ * (x, y, z, yaw, pitch, roll) parameters and Log MRPT's pseudo-log [ρ, ω] (Lie::SE<3>::log).
+ * Analytic: ∂ρ/∂(x,y,z) = Rᵀ, ∂ω/∂(yaw,pitch,roll) = body angular rates of the ZYX Euler angles
+ * [(−sin p, cos p sin r, cos p cos r), (0, cos r, −sin r), (1, 0, 0)] (columns), other blocks 0. */
+Eigen::Matrix<double, 6, 6> ypr_to_tangent_jacobian(const mrpt::poses::CPose3D& mean);
+
+/** Options of odometry_information(). */
+struct OdometryInformationOptions
+{
+	/** Floor on the standard deviation of every translational tangent direction, metres. Default 1e-4. */
+	double min_sigma_translation = 1e-4;
+	/** Floor on the standard deviation of every rotational tangent direction, radians. Default 1e-4. */
+	double min_sigma_rotation = 1e-4;
+};
+
+/** Σ_tangent = J Σ_ypr Jᵀ (J from ypr_to_tangent_jacobian), without any floor. */
+Eigen::Matrix<double, 6, 6> odometry_tangent_covariance(const mrpt::poses::CPose3DPDFGaussian& odometry);
+
+/** Information matrix of the between-factor residual r = Log(Z⁻¹·Ti⁻¹·Tj) = [ρ, ω] for the odometry
+ * Z = odometry.mean. The covariance Σ_tangent is floored in the σ_min-scaled space: with
+ * S = diag(σ_min,t ×3, σ_min,r ×3), A = S⁻¹ Σ S⁻¹ = V Λ Vᵀ, each eigenvalue is raised to at least 1,
+ * so every direction has at least the floor variance (for a diagonal Σ this is exactly
+ * Σ_ii ← max(Σ_ii, σ_min²)); 2D odometry (zero z/pitch/roll variance) thus gets finite information
+ * 1/σ_min² there. Returns S⁻¹ V Λ'⁻¹ Vᵀ S⁻¹, symmetric positive definite. Throws
+ * std::invalid_argument on non-finite input or non-positive floors. */
+Eigen::Matrix<double, 6, 6> odometry_information(
+	const mrpt::poses::CPose3DPDFGaussian& odometry, const OdometryInformationOptions& options = {});
+}  // namespace swba::io

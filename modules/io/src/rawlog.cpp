@@ -1,0 +1,397 @@
+#include <swba/io/rawlog.h>
+
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
+#include <mrpt/obs/CObservation.h>
+#include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/filesystem.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace swba::io
+{
+namespace
+{
+using mrpt::obs::CActionCollection;
+using mrpt::obs::CObservationBearingRange;
+using mrpt::obs::CSensoryFrame;
+
+/** Uncompressed size mod 2^32 from the gzip trailer, if the file is gzip-compressed. */
+bool gzip_trailer_size(const std::string& path, uint32_t& isize)
+{
+	std::ifstream f(path, std::ios::binary);
+	unsigned char magic[2] = {0, 0};
+	if (!f.read(reinterpret_cast<char*>(magic), 2)) return false;
+	if (magic[0] != 0x1f || magic[1] != 0x8b) return false;
+	f.seekg(-4, std::ios::end);
+	unsigned char b[4];
+	if (!f.read(reinterpret_cast<char*>(b), 4)) return false;
+	isize = uint32_t(b[0]) | (uint32_t(b[1]) << 8) | (uint32_t(b[2]) << 16) | (uint32_t(b[3]) << 24);
+	return true;
+}
+
+bool finite_pose(const mrpt::poses::CPose3D& p)
+{
+	for (int i = 0; i < 6; i++)
+		if (!std::isfinite(p[i])) return false;
+	return true;
+}
+
+/** Why a reading is invalid, or nullptr. */
+const char* invalid_reading(const CObservationBearingRange::TMeasurement& m, bool require_ids)
+{
+	if (!std::isfinite(m.range)) return "non-finite range";
+	if (m.range <= 0) return "range <= 0";
+	if (!std::isfinite(m.yaw)) return "non-finite yaw";
+	if (!std::isfinite(m.pitch)) return "non-finite pitch";
+	if (require_ids && m.landmarkID < 0) return "landmarkID < 0 (unknown ID)";
+	return nullptr;
+}
+
+class Reader
+{
+   public:
+	Reader(const std::string& path, const RawlogReaderOptions& options) : opt_(options) { out_.path = path; }
+
+	Rawlog run();
+
+   private:
+	[[noreturn]] void fail(const std::string& msg) const
+	{
+		throw std::runtime_error("rawlog '" + out_.path + "': " + msg);
+	}
+	void warn(const std::string& msg)
+	{
+		out_.warning_count++;
+		if (out_.warnings.size() < opt_.max_warning_texts) out_.warnings.push_back(msg);
+	}
+	void add_step(const CActionCollection::Ptr& acts, std::size_t act_entry, const CSensoryFrame::Ptr& sf,
+				  std::size_t sf_entry);
+	std::string where(std::size_t k, std::size_t act_entry, std::size_t sf_entry) const
+	{
+		return "step " + std::to_string(k) + " (rawlog entries " + std::to_string(act_entry) + "/" +
+			std::to_string(sf_entry) + ")";
+	}
+
+	RawlogReaderOptions opt_;
+	Rawlog out_;
+	std::set<int32_t> ids_;
+	std::size_t bearing_range_observations_ = 0;
+	std::size_t bare_observations_ = 0;
+	// Sensor description carried to steps without a bearing-range observation.
+	mrpt::poses::CPose3D last_sensor_pose_;
+	double last_std_[3] = {0, 0, 0};
+};
+
+void Reader::add_step(
+	const CActionCollection::Ptr& acts, std::size_t act_entry, const CSensoryFrame::Ptr& sf, std::size_t sf_entry)
+{
+	RawlogStep s;
+	s.index = out_.steps.size();
+	s.action_entry = act_entry;
+	s.frame_entry = sf_entry;
+	s.actions = acts;
+	s.observations = sf;
+	const std::string at = where(s.index, act_entry, sf_entry);
+
+	// Odometry.
+	s.has_odometry = acts->getFirstMovementEstimation(s.odometry);
+	if (s.has_odometry)
+	{
+		s.odometry_is_2d = !acts->getActionByClass<mrpt::obs::CActionRobotMovement3D>() &&
+			acts->getActionByClass<mrpt::obs::CActionRobotMovement2D>();
+		if (!finite_pose(s.odometry.mean)) fail(at + ": odometry mean is not finite");
+		for (int i = 0; i < 6; i++)
+		{
+			for (int j = 0; j < 6; j++)
+				if (!std::isfinite(s.odometry.cov(i, j))) fail(at + ": odometry covariance is not finite");
+			if (s.odometry.cov(i, i) < 0) fail(at + ": odometry covariance has a negative variance");
+		}
+		out_.steps_with_odometry++;
+		if (s.odometry_is_2d) out_.steps_with_2d_odometry++;
+	}
+	else
+	{
+		s.odometry = mrpt::poses::CPose3DPDFGaussian();
+		s.odometry.cov.setZero();
+	}
+
+	// Bearing-range observations.
+	bool any_skipped = false;
+	std::vector<std::vector<CObservationBearingRange::TMeasurement>> kept_per_obs;
+	for (const auto& o : *sf)
+	{
+		if (!o || !IS_CLASS(*o, CObservationBearingRange)) continue;
+		const auto& br = dynamic_cast<const CObservationBearingRange&>(*o);
+		bearing_range_observations_++;
+		const double stds[3] = {br.sensor_std_range, br.sensor_std_yaw, br.sensor_std_pitch};
+		if (!finite_pose(br.sensorLocationOnRobot)) fail(at + ": sensorLocationOnRobot is not finite");
+		for (double v : stds)
+			if (!std::isfinite(v) || v < 0)
+				fail(at + ": sensor_std_range/yaw/pitch must be finite and >= 0");
+		if (!s.has_observation)
+		{
+			s.has_observation = true;
+			s.sensor_pose = br.sensorLocationOnRobot;
+			s.sensor_std_range = stds[0];
+			s.sensor_std_yaw = stds[1];
+			s.sensor_std_pitch = stds[2];
+		}
+		else if (
+			!(br.sensorLocationOnRobot == s.sensor_pose) || stds[0] != s.sensor_std_range ||
+			stds[1] != s.sensor_std_yaw || stds[2] != s.sensor_std_pitch)
+		{
+			fail(at + ": several CObservationBearingRange with different sensor poses or noise in one sensory "
+					  "frame (not supported)");
+		}
+		std::vector<CObservationBearingRange::TMeasurement> kept;
+		for (std::size_t i = 0; i < br.sensedData.size(); i++)
+		{
+			const auto& m = br.sensedData[i];
+			if (const char* why = invalid_reading(m, opt_.require_landmark_ids))
+			{
+				s.skipped_readings++;
+				any_skipped = true;
+				warn(at + ": reading " + std::to_string(i) + " (landmark " + std::to_string(m.landmarkID) +
+					 ") skipped: " + why);
+				continue;
+			}
+			kept.push_back(m);
+			s.readings.push_back({m.landmarkID, m.range, m.yaw, m.pitch});
+			ids_.insert(m.landmarkID);
+		}
+		kept_per_obs.push_back(std::move(kept));
+	}
+	if (s.has_observation)
+	{
+		last_sensor_pose_ = s.sensor_pose;
+		last_std_[0] = s.sensor_std_range;
+		last_std_[1] = s.sensor_std_yaw;
+		last_std_[2] = s.sensor_std_pitch;
+	}
+	else
+	{
+		out_.steps_without_observation++;
+		s.sensor_pose = last_sensor_pose_;
+		s.sensor_std_range = last_std_[0];
+		s.sensor_std_yaw = last_std_[1];
+		s.sensor_std_pitch = last_std_[2];
+	}
+
+	// Give every consumer (MRPT's EKF too) the same readings: a cleaned copy of the frame.
+	if (any_skipped)
+	{
+		auto clean = std::make_shared<CSensoryFrame>();
+		std::size_t j = 0;
+		for (const auto& o : *sf)
+		{
+			if (o && IS_CLASS(*o, CObservationBearingRange))
+			{
+				auto c = std::make_shared<CObservationBearingRange>(dynamic_cast<const CObservationBearingRange&>(*o));
+				c->sensedData = kept_per_obs[j++];
+				clean->insert(c);
+			}
+			else
+				clean->insert(o);
+		}
+		s.observations = clean;
+	}
+
+	out_.readings += s.readings.size();
+	out_.skipped_readings += s.skipped_readings;
+	out_.steps.push_back(std::move(s));
+}
+
+Rawlog Reader::run()
+{
+	const std::string& path = out_.path;
+	if (path.empty()) throw std::runtime_error("rawlog: empty file name");
+	if (!mrpt::system::fileExists(path)) fail("file does not exist");
+	if (mrpt::system::directoryExists(path)) fail("is a directory, not a rawlog file");
+
+	mrpt::io::CFileGZInputStream f;
+	std::string open_error;
+	if (!f.open(path, open_error)) fail("cannot open: " + open_error);
+	auto arch = mrpt::serialization::archiveFrom(f);
+
+	CActionCollection::Ptr pending;
+	std::size_t pending_entry = 0;
+	std::size_t entry = 0;
+	bool clean_end = false;
+	for (;;)
+	{
+		if (opt_.max_steps && out_.steps.size() >= opt_.max_steps) break;
+		const uint64_t pos_before = f.getPosition();
+		mrpt::serialization::CSerializable::Ptr obj;
+		std::string damage;
+		try
+		{
+			arch >> obj;
+		}
+		catch (const mrpt::serialization::CExceptionEOF& e)
+		{
+			if (f.getPosition() == pos_before)
+			{
+				clean_end = true;
+				break;
+			}
+			damage = "unexpected end of data inside the object (" + mrpt_exception_summary(e.what()) + ")";
+		}
+		catch (const std::exception& e)
+		{
+			damage = mrpt_exception_summary(e.what());
+		}
+		if (damage.empty() && !obj) damage = "null object";
+		if (!damage.empty())
+		{
+			if (entry == 0)
+				fail("not an MRPT rawlog, or corrupt from the start (entry 0: " + damage + ")");
+			const std::string msg = "truncated or corrupt at entry " + std::to_string(entry) + " after " +
+				std::to_string(out_.steps.size()) + " complete steps: " + damage;
+			if (!opt_.allow_truncated) fail(msg);
+			out_.truncated = true;
+			warn(msg);
+			break;
+		}
+		out_.entries++;
+		if (IS_CLASS(*obj, CActionCollection))
+		{
+			if (pending)
+			{
+				out_.ignored_entries++;
+				warn("entry " + std::to_string(pending_entry) +
+					 ": action collection without a following sensory frame, ignored (as MRPT's "
+					 "readActionObservationPair does)");
+			}
+			pending = std::dynamic_pointer_cast<CActionCollection>(obj);
+			pending_entry = entry;
+		}
+		else if (IS_CLASS(*obj, CSensoryFrame) && pending)
+		{
+			add_step(pending, pending_entry, std::dynamic_pointer_cast<CSensoryFrame>(obj), entry);
+			pending.reset();
+		}
+		else
+		{
+			out_.ignored_entries++;
+			if (IS_DERIVED(*obj, mrpt::obs::CObservation)) bare_observations_++;
+		}
+		entry++;
+	}
+	if (pending) out_.ignored_entries++;  // trailing action (normal in the kf-slam demos)
+
+	// A gzip stream cut on an object boundary reads "cleanly": check the trailer's size.
+	uint32_t isize = 0;
+	if (clean_end && gzip_trailer_size(path, isize) && uint32_t(f.getPosition() & 0xffffffffu) != isize)
+	{
+		const std::string msg = "truncated gzip stream (" + std::to_string(f.getPosition()) +
+			" bytes decompressed, trailer says " + std::to_string(isize) + " mod 2^32) after entry " +
+			std::to_string(entry) + ", " + std::to_string(out_.steps.size()) + " complete steps";
+		if (!opt_.allow_truncated) fail(msg);
+		out_.truncated = true;
+		warn(msg);
+	}
+
+	const std::string counts = std::to_string(out_.entries) + " entries, " + std::to_string(out_.steps.size()) + " steps";
+	if (out_.steps.empty())
+	{
+		if (bare_observations_ > 0)
+			fail("no action/sensory-frame pairs (" + counts + "; " + std::to_string(bare_observations_) +
+				 " bare observations: observation-only rawlogs are not supported)");
+		fail("no action/sensory-frame pairs (" + counts + ")");
+	}
+	if (out_.steps_with_odometry == 0)
+		fail("no odometry: none of the " + std::to_string(out_.steps.size()) +
+			 " action collections holds a CActionRobotMovement2D/3D (" + counts + ")");
+	if (out_.readings == 0)
+	{
+		std::string why = std::to_string(bearing_range_observations_) + " CObservationBearingRange, " +
+			std::to_string(out_.skipped_readings) + " readings skipped as invalid";
+		if (out_.skipped_readings > 0 && opt_.require_landmark_ids)
+			why += "; unknown landmark IDs (-1) need data association, which is not supported";
+		fail("no valid bearing-range observation (" + counts + ", " + why + ")");
+	}
+	out_.distinct_landmarks = ids_.size();
+	return std::move(out_);
+}
+}  // namespace
+
+std::string mrpt_exception_summary(const std::string& what)
+{
+	std::istringstream in(what);
+	std::string line, message, location, first;
+	while (std::getline(in, line))
+	{
+		const auto b = line.find_first_not_of(" \t\r");
+		if (b == std::string::npos) continue;
+		const auto e = line.find_last_not_of(" \t\r");
+		line = line.substr(b, e - b + 1);
+		if (line.rfind("Message:", 0) == 0 && message.empty())
+		{
+			const auto m = line.find_first_not_of(" \t", 8);
+			message = m == std::string::npos ? "" : line.substr(m);
+		}
+		else if (line.rfind("Location:", 0) == 0 && location.empty())
+		{
+			// "Location: ./libs/.../File.cpp:721: [function…" → "File.cpp:721"
+			std::string loc = line.substr(9);
+			const auto colon2 = loc.find(": ");
+			if (colon2 != std::string::npos) loc = loc.substr(0, colon2);
+			const auto slash = loc.find_last_of('/');
+			if (slash != std::string::npos) loc = loc.substr(slash + 1);
+			const auto lb = loc.find_first_not_of(' ');
+			location = lb == std::string::npos ? "" : loc.substr(lb);
+		}
+		else if (first.empty() && line.rfind("====", 0) != 0)
+			first = line;
+	}
+	if (!message.empty()) return location.empty() ? message : message + " (" + location + ")";
+	return first.empty() ? what : first;
+}
+
+Rawlog read_rawlog(const std::string& path, const RawlogReaderOptions& options)
+{
+	Reader r(path, options);
+	return r.run();
+}
+
+std::vector<mrpt::poses::CPose3D> read_ground_truth_path(const std::string& path)
+{
+	std::ifstream in(path);
+	if (!in) throw std::runtime_error("ground-truth path '" + path + "': cannot open (missing or unreadable)");
+	std::vector<mrpt::poses::CPose3D> poses;
+	std::string line;
+	std::size_t lineno = 0;
+	while (std::getline(in, line))
+	{
+		lineno++;
+		const auto b = line.find_first_not_of(" \t\r");
+		if (b == std::string::npos || line[b] == '%' || line[b] == '#') continue;
+		std::istringstream ss(line);
+		std::vector<double> v;
+		std::string tok;
+		while (ss >> tok)
+		{
+			char* end = nullptr;
+			const double x = std::strtod(tok.c_str(), &end);
+			if (end == tok.c_str() || *end != '\0' || !std::isfinite(x))
+				throw std::runtime_error("ground-truth path '" + path + "' line " + std::to_string(lineno) +
+										 ": '" + tok + "' is not a finite number");
+			v.push_back(x);
+		}
+		if (v.size() != 6)
+			throw std::runtime_error("ground-truth path '" + path + "' line " + std::to_string(lineno) +
+									 ": expected 6 columns (x y z yaw pitch roll), found " + std::to_string(v.size()));
+		poses.emplace_back(v[0], v[1], v[2], v[3], v[4], v[5]);
+	}
+	if (poses.empty()) throw std::runtime_error("ground-truth path '" + path + "': no pose rows");
+	return poses;
+}
+}  // namespace swba::io
