@@ -1,0 +1,41 @@
+/** \file block_cholesky.h
+ * Cholesky solvers for a symmetric positive-definite matrix given as square blocks on a fixed
+ * block-sparsity pattern (the reduced camera system, or a full pose-graph Hessian).
+ * Two back ends behind one interface: dense LLT (Eigen) and supernodal sparse LLT (SuiteSparse
+ * CHOLMOD through Eigen's CholmodSupport, analysed once per pattern, factorized per call).
+ * CHOLMOD types never appear in this header. */
+#pragma once
+
+#include <memory>
+#include <utility>
+#include <vector>
+
+namespace swba
+{
+/** Block sparsity of a symmetric matrix: block sizes and the upper-triangular block pairs (i ≤ j),
+ * every diagonal pair (i, i) included. */
+struct BlockPattern
+{
+	std::vector<int> block_sizes;
+	std::vector<std::pair<int, int>> upper_blocks;  ///< sorted, unique, i ≤ j
+	std::vector<int> offsets() const;
+	int dim() const;
+};
+
+class BlockCholesky
+{
+   public:
+	virtual ~BlockCholesky() = default;
+	/** Factorizes the matrix whose upper blocks are `blocks[k]` (row-major, sizes of
+	 * upper_blocks[k]; a diagonal block must be full and symmetric). Returns false if not SPD. */
+	virtual bool factorize(const std::vector<const double*>& blocks) = 0;
+	/** Solves A x = b in place (after a successful factorize). */
+	virtual void solve(double* b_inout) const = 0;
+	virtual bool is_sparse() const = 0;
+
+	/** Dense LLT of the assembled matrix. */
+	static std::unique_ptr<BlockCholesky> dense(const BlockPattern& pattern);
+	/** CHOLMOD supernodal LLT with the fill-reducing ordering computed once for the pattern. */
+	static std::unique_ptr<BlockCholesky> sparse(const BlockPattern& pattern);
+};
+}  // namespace swba

@@ -1,0 +1,134 @@
+#include <swba/linear/block_cholesky.h>
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <stdexcept>
+
+namespace swba
+{
+std::vector<int> BlockPattern::offsets() const
+{
+	std::vector<int> off(block_sizes.size() + 1, 0);
+	for (size_t i = 0; i < block_sizes.size(); i++) off[i + 1] = off[i] + block_sizes[i];
+	return off;
+}
+
+int BlockPattern::dim() const { return offsets().back(); }
+
+namespace
+{
+class DenseBlockCholesky final : public BlockCholesky
+{
+   public:
+	explicit DenseBlockCholesky(const BlockPattern& p) : pattern_(p), offsets_(p.offsets())
+	{
+		A_.setZero(offsets_.back(), offsets_.back());
+	}
+	bool factorize(const std::vector<const double*>& blocks) override
+	{
+		for (size_t k = 0; k < pattern_.upper_blocks.size(); k++)
+		{
+			const auto [i, j] = pattern_.upper_blocks[k];
+			const int ni = pattern_.block_sizes[i], nj = pattern_.block_sizes[j];
+			A_.block(offsets_[i], offsets_[j], ni, nj) =
+				Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+					blocks[k], ni, nj);
+		}
+		llt_.compute(A_.selfadjointView<Eigen::Upper>());
+		return llt_.info() == Eigen::Success;
+	}
+	void solve(double* b) const override
+	{
+		Eigen::Map<Eigen::VectorXd> v(b, offsets_.back());
+		v = llt_.solve(v);
+	}
+	bool is_sparse() const override { return false; }
+
+   private:
+	BlockPattern pattern_;
+	std::vector<int> offsets_;
+	Eigen::MatrixXd A_;
+	Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt_;
+};
+
+class SparseBlockCholesky final : public BlockCholesky
+{
+   public:
+	explicit SparseBlockCholesky(const BlockPattern& p) : pattern_(p), offsets_(p.offsets())
+	{
+		const int n = offsets_.back();
+		// Upper-triangular CSC pattern; remember where each block entry lands in valuePtr().
+		std::vector<Eigen::Triplet<double>> trip;
+		for (const auto& [i, j] : pattern_.upper_blocks)
+			for (int r = 0; r < pattern_.block_sizes[i]; r++)
+				for (int c = 0; c < pattern_.block_sizes[j]; c++)
+				{
+					const int R = offsets_[i] + r, C = offsets_[j] + c;
+					if (R <= C) trip.emplace_back(R, C, 1.0);
+				}
+		A_.resize(n, n);
+		A_.setFromTriplets(trip.begin(), trip.end());
+		A_.makeCompressed();
+		value_index_.reserve(trip.size());
+		for (const auto& [i, j] : pattern_.upper_blocks)
+			for (int r = 0; r < pattern_.block_sizes[i]; r++)
+				for (int c = 0; c < pattern_.block_sizes[j]; c++)
+				{
+					const int R = offsets_[i] + r, C = offsets_[j] + c;
+					if (R > C) continue;
+					const int* begin = A_.innerIndexPtr() + A_.outerIndexPtr()[C];
+					const int* end = A_.innerIndexPtr() + A_.outerIndexPtr()[C + 1];
+					const int* it = std::lower_bound(begin, end, R);
+					value_index_.push_back(static_cast<int>(it - A_.innerIndexPtr()));
+				}
+		solver_.analyzePattern(A_);
+		if (solver_.info() != Eigen::Success)
+			throw std::runtime_error("CHOLMOD: symbolic analysis failed");
+	}
+	bool factorize(const std::vector<const double*>& blocks) override
+	{
+		double* vals = A_.valuePtr();
+		size_t q = 0;
+		for (size_t k = 0; k < pattern_.upper_blocks.size(); k++)
+		{
+			const auto [i, j] = pattern_.upper_blocks[k];
+			const int ni = pattern_.block_sizes[i], nj = pattern_.block_sizes[j];
+			const double* B = blocks[k];
+			for (int r = 0; r < ni; r++)
+				for (int c = 0; c < nj; c++)
+				{
+					if (i == j && r > c) continue;
+					vals[value_index_[q++]] = B[r * nj + c];
+				}
+		}
+		solver_.factorize(A_);
+		return solver_.info() == Eigen::Success;
+	}
+	void solve(double* b) const override
+	{
+		Eigen::Map<Eigen::VectorXd> v(b, offsets_.back());
+		Eigen::VectorXd x = solver_.solve(v);
+		v = x;
+	}
+	bool is_sparse() const override { return true; }
+
+   private:
+	BlockPattern pattern_;
+	std::vector<int> offsets_;
+	Eigen::SparseMatrix<double> A_;
+	std::vector<int> value_index_;
+	mutable Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> solver_;
+};
+}  // namespace
+
+std::unique_ptr<BlockCholesky> BlockCholesky::dense(const BlockPattern& pattern)
+{
+	return std::make_unique<DenseBlockCholesky>(pattern);
+}
+
+std::unique_ptr<BlockCholesky> BlockCholesky::sparse(const BlockPattern& pattern)
+{
+	return std::make_unique<SparseBlockCholesky>(pattern);
+}
+}  // namespace swba

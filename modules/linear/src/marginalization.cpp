@@ -1,0 +1,78 @@
+#include <swba/linear/marginalization.h>
+
+#include <Eigen/Eigenvalues>
+#include <stdexcept>
+
+namespace swba
+{
+MarginalizationResult marginalize(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
+								  const std::vector<int>& keep, const std::vector<int>& marg,
+								  double rel_threshold)
+{
+	const int n = static_cast<int>(H.rows());
+	if (H.cols() != n || b.size() != n) throw std::invalid_argument("marginalize: H must be n×n and b n");
+	std::vector<char> used(n, 0);
+	for (int i : keep)
+	{
+		if (i < 0 || i >= n || used[i]) throw std::invalid_argument("marginalize: bad or repeated index");
+		used[i] = 1;
+	}
+	for (int i : marg)
+	{
+		if (i < 0 || i >= n || used[i]) throw std::invalid_argument("marginalize: bad or repeated index");
+		used[i] = 1;
+	}
+	const int nk = static_cast<int>(keep.size()), nm = static_cast<int>(marg.size());
+	Eigen::MatrixXd Hkk(nk, nk), Hkm(nk, nm), Hmm(nm, nm);
+	Eigen::VectorXd bk(nk), bm(nm);
+	for (int i = 0; i < nk; i++)
+	{
+		bk[i] = b[keep[i]];
+		for (int j = 0; j < nk; j++) Hkk(i, j) = H(keep[i], keep[j]);
+		for (int j = 0; j < nm; j++) Hkm(i, j) = H(keep[i], marg[j]);
+	}
+	for (int i = 0; i < nm; i++)
+	{
+		bm[i] = b[marg[i]];
+		for (int j = 0; j < nm; j++) Hmm(i, j) = H(marg[i], marg[j]);
+	}
+	MarginalizationResult out;
+	if (nm > 0)
+	{
+		Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (Hmm + Hmm.transpose()));
+		const Eigen::VectorXd& ev = es.eigenvalues();
+		const double lmax = ev.size() ? std::max(ev.maxCoeff(), 0.0) : 0.0;
+		Eigen::VectorXd inv = Eigen::VectorXd::Zero(nm);
+		for (int i = 0; i < nm; i++)
+			if (ev[i] > rel_threshold * lmax && ev[i] > 0) inv[i] = 1.0 / ev[i];
+		const Eigen::MatrixXd Hmm_inv = es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
+		const Eigen::MatrixXd K = Hkm * Hmm_inv;
+		out.H = Hkk - K * Hkm.transpose();
+		out.b = bk - K * bm;
+	}
+	else
+	{
+		out.H = Hkk;
+		out.b = bk;
+	}
+	out.H = 0.5 * (out.H + out.H.transpose()).eval();
+
+	Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(out.H);
+	const Eigen::VectorXd& ev = es.eigenvalues();
+	const double lmax = ev.size() ? std::max(ev.maxCoeff(), 0.0) : 0.0;
+	std::vector<int> kept;
+	for (int i = 0; i < nk; i++)
+		if (ev[i] > rel_threshold * lmax && ev[i] > 0) kept.push_back(i);
+	out.rank = static_cast<int>(kept.size());
+	out.J.resize(out.rank, nk);
+	out.e.resize(out.rank);
+	for (int r = 0; r < out.rank; r++)
+	{
+		const int i = kept[r];
+		const double s = std::sqrt(ev[i]);
+		out.J.row(r) = s * es.eigenvectors().col(i).transpose();
+		out.e[r] = -es.eigenvectors().col(i).dot(out.b) / s;
+	}
+	return out;
+}
+}  // namespace swba

@@ -1,0 +1,121 @@
+// Internal: the block structure of a Problem's normal equations, their assembly from evaluated
+// Jacobians, and the damped solve with Schur elimination of the eliminable variables.
+#pragma once
+
+#include <swba/linear/block_cholesky.h>
+#include <swba/nonlinear/problem.h>
+#include <swba/nonlinear/solver.h>
+
+#include <memory>
+#include <vector>
+
+namespace swba::detail
+{
+/** A non-constant variable in the ordering. */
+struct OrderedVariable
+{
+	VariableId id;
+	Problem::Variable* var;
+	int tangent;
+	int offset;  ///< scalar offset in the kept vector (kept) or the eliminated vector (eliminated)
+};
+
+/** One factor's evaluation storage. */
+struct FactorSlotInfo
+{
+	const Factor* factor;
+	const LossFunction* loss;
+	int m;
+	int residual_offset;
+	std::vector<double*> values;        ///< per factor variable
+	std::vector<int> kind;              ///< 0 kept, 1 eliminated, 2 constant
+	std::vector<int> index;             ///< index into kept/elim lists (−1 if constant)
+	std::vector<int> jacobian_offset;   ///< into the Jacobian buffer (−1 if constant)
+};
+
+struct Contribution
+{
+	int factor, slot_a, slot_b;
+};
+
+class NormalEquations
+{
+   public:
+	/** Builds the ordering (kept first, then eliminated; constants removed) and all block patterns.
+	 * `use_schur` false puts every non-constant variable in the kept group. */
+	NormalEquations(Problem& problem, bool use_schur, bool sparse, int num_threads);
+
+	int kept_dim() const { return kept_dim_; }
+	int elim_dim() const { return elim_dim_; }
+	int num_kept() const { return static_cast<int>(kept_.size()); }
+	int num_elim() const { return static_cast<int>(elim_.size()); }
+	int num_constant() const { return num_constant_; }
+	bool sparse() const { return sparse_; }
+	int num_factors() const { return static_cast<int>(factors_.size()); }
+
+	/** Evaluates every factor at the current values; with `jacobians` also the Jacobians.
+	 * Returns the total cost; `dropped` receives the count of unevaluable factors. */
+	double evaluate(bool jacobians, int* dropped);
+	/** Assembles H = JᵀJ (blocks) and g = Jᵀr from the last Jacobian evaluation. */
+	void assemble();
+	/** max |g_i|. */
+	double gradient_max_norm() const;
+	/** Solves (H + λ D) δ = −g, D = clamp(diag H); δ over [kept; eliminated]. False if not SPD. */
+	bool solve_damped(double lambda, double min_diag, double max_diag, Eigen::VectorXd& delta);
+	/** Predicted decrease of the linear model for step δ: −gᵀδ − ½ δᵀHδ. */
+	double model_decrease(const Eigen::VectorXd& delta) const;
+
+	/** Backs up / restores the values of all non-constant variables. */
+	void save_values();
+	void restore_values();
+	/** x ← x ⊞ δ for all non-constant variables. */
+	void apply_step(const Eigen::VectorXd& delta);
+	double values_norm() const;
+
+   private:
+	void build_patterns();
+
+	Problem& problem_;
+	bool use_schur_, sparse_;
+	int num_threads_;
+	std::vector<OrderedVariable> kept_, elim_;
+	int kept_dim_ = 0, elim_dim_ = 0, num_constant_ = 0;
+	std::vector<FactorSlotInfo> factors_;
+	std::vector<double> residuals_, jacobians_;
+	std::vector<char> valid_;
+	std::vector<double> factor_cost_;
+	std::vector<std::vector<std::pair<int, int>>> var_factors_kept_, var_factors_elim_;  // (factor, slot)
+
+	// Kept-kept blocks H_pp (upper, i ≤ j), with contributions.
+	std::vector<std::pair<int, int>> pp_blocks_;
+	std::vector<int> pp_offset_;
+	std::vector<std::vector<Contribution>> pp_contrib_;
+	std::vector<double> Hpp_;
+	std::vector<int> pp_diag_block_;  // per kept var: its diagonal block index
+	// Kept-eliminated blocks H_pl.
+	struct PlBlock
+	{
+		int kept, elim, offset;
+		std::vector<Contribution> contrib;  // slot_a kept slot, slot_b elim slot
+	};
+	std::vector<PlBlock> pl_blocks_;
+	std::vector<std::vector<int>> elim_pl_;  // per elim var: its pl blocks
+	std::vector<std::vector<int>> kept_pl_;  // per kept var: its pl blocks
+	std::vector<double> Hpl_, W_;
+	std::vector<int> ll_offset_;
+	std::vector<double> Hll_, Hll_inv_;
+	std::vector<double> g_;  // [kept; elim]
+	// Reduced system S over kept variables.
+	BlockPattern s_pattern_;
+	std::vector<int> s_offset_;
+	std::vector<int> s_pp_block_;  // per S block: the H_pp block or −1
+	struct SchurTerm
+	{
+		int pl_a, pl_b;
+	};
+	std::vector<std::vector<SchurTerm>> s_terms_;
+	std::vector<double> S_;
+	std::unique_ptr<BlockCholesky> cholesky_;
+	std::vector<double> backup_;
+};
+}  // namespace swba::detail
