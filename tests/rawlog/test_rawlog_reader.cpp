@@ -5,11 +5,13 @@
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/obs/CActionRobotMovement3D.h>
 #include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/poses/Lie/SO.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -347,4 +349,68 @@ TEST(RawlogReader, BadReadingsSkippedAndCounted)
 	so.id_offset = -10;
 	write_synth(path, so);
 	EXPECT_NE(expect_error(path).find("data association"), std::string::npos);
+}
+
+namespace
+{
+/** RMS rotation angle (degrees) between the odometry of step k and the true motion
+ * GT[k + offset] → GT[k + 1 + offset]. (Rotation tells the pairing apart: the simulated motion has a
+ * constant translation but random pitch/roll increments of 2°/4°, measured with 0.1° noise.) */
+double odometry_vs_gt_rms(const swba::io::Rawlog& log, const std::vector<mrpt::poses::CPose3D>& gt, int offset)
+{
+	double sq = 0;
+	std::size_t n = 0;
+	for (std::size_t k = 0; k < log.steps.size(); k++)
+	{
+		const long a = long(k) + offset;
+		if (a < 0 || std::size_t(a + 1) >= gt.size()) continue;
+		const mrpt::poses::CPose3D truth = gt[std::size_t(a) + 1] - gt[std::size_t(a)];
+		const auto err = mrpt::poses::Lie::SO<3>::log((log.steps[k].odometry.mean - truth).getRotationMatrix());
+		sq += std::pow(mrpt::RAD2DEG(err.norm()), 2);
+		n++;
+	}
+	return std::sqrt(sq / double(n));
+}
+}  // namespace
+
+TEST(RawlogReader, StepOdometryPairsWithGroundTruthRows)
+{
+	// Step k's odometry is the motion from GT row k to row k + 1 (noise σ 0.1° per angle).
+	const auto log = read_rawlog(kDatasets + "/kf-slam_6D_demo.rawlog");
+	const auto gt = swba::io::read_ground_truth_path(kDatasets + "/kf-slam_6D_demo_ground_truth_robot_path.txt");
+	ASSERT_EQ(gt.size(), log.steps.size() + 1);
+	const double right = odometry_vs_gt_rms(log, gt, 0);
+	EXPECT_LT(right, 0.1 * std::sqrt(3.0) * 1.5);
+	EXPECT_GT(odometry_vs_gt_rms(log, gt, 1), 5 * right);
+	EXPECT_GT(odometry_vs_gt_rms(log, gt, -1), 5 * right);
+}
+
+TEST(RawlogReader, GeneratedRawlogsIfPresent)
+{
+	// Made by scripts/make-rawlogs.sh (needs mrpt-apps); skipped when not generated.
+	const char* env = std::getenv("SWBA_RAWLOG_DIR");
+	const std::string dir = env ? env : std::string(SWBA_SHARE_DIR) + "/../build/rawlogs";
+	struct Expect
+	{
+		const char* name;
+		std::size_t steps;
+		double std_range, std_angle_deg;
+	};
+	int found = 0;
+	for (const Expect& e : {Expect{"kf-slam_6D_noisy", 599, 0.05, 0.5}, Expect{"large_6D_5000", 4999, 0.01, 0.1}})
+	{
+		const std::string rl = dir + "/" + e.name + ".rawlog";
+		if (!fs::exists(rl)) continue;
+		found++;
+		const auto log = read_rawlog(rl);
+		EXPECT_EQ(log.steps.size(), e.steps) << rl;
+		EXPECT_EQ(log.skipped_readings, 0u);
+		EXPECT_EQ(log.steps_with_odometry, e.steps);
+		EXPECT_NEAR(log.steps[0].sensor_std_range, e.std_range, 1e-7);
+		EXPECT_NEAR(log.steps[0].sensor_std_yaw, mrpt::DEG2RAD(e.std_angle_deg), 1e-7);
+		const auto gt = swba::io::read_ground_truth_path(dir + "/" + e.name + "_ground_truth_robot_path.txt");
+		ASSERT_EQ(gt.size(), e.steps + 1);
+		EXPECT_LT(odometry_vs_gt_rms(log, gt, 0), 0.1 * std::sqrt(3.0) * 1.5);
+	}
+	if (found == 0) GTEST_SKIP() << "no generated rawlogs in " << dir << " (run scripts/make-rawlogs.sh)";
 }
