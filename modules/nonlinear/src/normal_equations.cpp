@@ -10,6 +10,9 @@
 
 namespace swba::detail
 {
+// Below this many items a loop runs on one thread: thread start-up and barriers cost more.
+constexpr int kParallelMin = 2000;
+
 NormalEquations::NormalEquations(Problem& problem, bool use_schur, bool sparse, int num_threads)
 	: problem_(problem), use_schur_(use_schur), sparse_(sparse), num_threads_(std::max(1, num_threads))
 {
@@ -225,7 +228,7 @@ void NormalEquations::build_patterns()
 double NormalEquations::evaluate(bool want_jacobians, int* dropped)
 {
 	const int nf = num_factors();
-#pragma omp parallel for schedule(dynamic, 256) num_threads(num_threads_)
+#pragma omp parallel for schedule(dynamic, 256) num_threads(num_threads_) if (nf > kParallelMin)
 	for (int f = 0; f < nf; f++)
 	{
 		const auto& fs = factors_[f];
@@ -290,7 +293,7 @@ void NormalEquations::assemble()
 	auto jac = [&](int f, int s) { return jacobians_.data() + factors_[f].jacobian_offset[s]; };
 	auto tdim = [&](int f, int s) { return factors_[f].factor->tangent_dims()[s]; };
 	const int npp = static_cast<int>(pp_blocks_.size());
-#pragma omp parallel num_threads(num_threads_)
+#pragma omp parallel num_threads(num_threads_) if (num_factors() > kParallelMin)
 	{
 #pragma omp for schedule(dynamic, 64) nowait
 		for (int b = 0; b < npp; b++)
@@ -364,7 +367,7 @@ bool NormalEquations::solve_damped(double lambda, double min_diag, double max_di
 	bool ok = true;
 	// 1. Damped H_ll⁻¹ and W = H_pl H_ll⁻¹ per eliminated variable.
 	const int ne = num_elim();
-#pragma omp parallel for schedule(dynamic, 256) num_threads(num_threads_) reduction(&& : ok)
+#pragma omp parallel for schedule(dynamic, 256) num_threads(num_threads_) reduction(&& : ok) if (ne > kParallelMin)
 	for (int l = 0; l < ne; l++)
 	{
 		const int nl = elim_[l].tangent;
@@ -391,7 +394,7 @@ bool NormalEquations::solve_damped(double lambda, double min_diag, double max_di
 	// 2. Reduced system S = H_pp + λD − Σ W H_plᵀ, rhs = −g_p + Σ W g_l.
 	const int ns = static_cast<int>(s_terms_.size());
 	std::vector<const double*> blocks(ns);
-#pragma omp parallel for schedule(dynamic, 32) num_threads(num_threads_)
+#pragma omp parallel for schedule(dynamic, 32) num_threads(num_threads_) if (ns > kParallelMin / 8)
 	for (int k = 0; k < ns; k++)
 	{
 		const auto [a, b] = s_pattern_.upper_blocks[k];
@@ -412,7 +415,7 @@ bool NormalEquations::solve_damped(double lambda, double min_diag, double max_di
 	}
 	Eigen::VectorXd rhs(kept_dim_);
 	const int nk = num_kept();
-#pragma omp parallel for schedule(dynamic, 64) num_threads(num_threads_)
+#pragma omp parallel for schedule(dynamic, 64) num_threads(num_threads_) if (nk > kParallelMin / 8)
 	for (int a = 0; a < nk; a++)
 	{
 		const int na = kept_[a].tangent;
@@ -433,7 +436,7 @@ bool NormalEquations::solve_damped(double lambda, double min_diag, double max_di
 		delta.head(kept_dim_) = rhs;
 	}
 	// 3. Back-substitution: δ_l = H_ll⁻¹ (−g_l − Σ H_plᵀ δ_p).
-#pragma omp parallel for schedule(dynamic, 256) num_threads(num_threads_)
+#pragma omp parallel for schedule(dynamic, 256) num_threads(num_threads_) if (ne > kParallelMin)
 	for (int l = 0; l < ne; l++)
 	{
 		const int nl = elim_[l].tangent;
