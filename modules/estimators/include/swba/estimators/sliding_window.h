@@ -1,0 +1,167 @@
+/** \file sliding_window.h
+ * Sliding-window estimator for range-bearing SLAM on MRPT rawlogs (odometry + landmark observations),
+ * with marginalisation of the oldest pose into a linearised prior (J, e, x_lin), first-estimate
+ * Jacobians, inverse-depth (or XYZ) landmarks and two landmark policies. The batch estimator is the
+ * same machinery with an unbounded window, solved once at the end.
+ *
+ * Typical use (an online loop):
+ * \code
+ *   swba::estimators::SlidingWindowEstimator est(options);
+ *   for (const auto& step : rawlog.steps) {
+ *     est.process(step);                 // one LM solve over the window (+ one marginalisation)
+ *     mrpt::poses::CPose3D now = est.current_pose();
+ *   }
+ *   est.finish();                        // flush the poses still in the window to the lagged output
+ * \endcode */
+#pragma once
+
+#include <swba/eval/trajectory.h>
+#include <swba/io/rawlog.h>
+#include <swba/nonlinear/solver.h>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace swba::estimators
+{
+enum class LandmarkParameterization
+{
+	InverseDepth,  ///< [azimuth, elevation, inverse range] in the anchor pose's sensor frame
+	Xyz            ///< world point
+};
+
+enum class LandmarkPolicy
+{
+	/** Every landmark stays in the state; only poses are marginalised, so the prior links the
+	 * landmarks (like the EKF's covariance) and W → ∞ is the batch problem. Cost grows with the map. */
+	Slam,
+	/** Landmarks that no pose left in the window observes are marginalised with the oldest pose
+	 * (VIO style): the state and the cost per step stay bounded, the map is forgotten. */
+	ConstantTime
+};
+
+enum class GaugeMode
+{
+	Fixed,  ///< the first pose is constant (default)
+	Free,   ///< nothing fixed; LM damping copes with the 6-DoF null space
+	Prior   ///< an SE(3) prior on the first pose with information gauge_prior_weight·I
+};
+
+LandmarkParameterization parse_landmark_parameterization(const std::string& s);  ///< "inverse-depth" | "xyz"
+LandmarkPolicy parse_landmark_policy(const std::string& s);                      ///< "slam" | "constant-time"
+GaugeMode parse_gauge_mode(const std::string& s);                                ///< "fixed" | "free" | "prior"
+std::string to_string(LandmarkParameterization p);
+std::string to_string(LandmarkPolicy p);
+std::string to_string(GaugeMode g);
+
+struct SlidingWindowOptions
+{
+	/** Number of poses kept in the window (W ≥ 2); 0 = unbounded (no marginalisation). Default 10. */
+	int window_size = 10;
+	/** Default InverseDepth. */
+	LandmarkParameterization landmarks = LandmarkParameterization::InverseDepth;
+	/** Default Slam (the more accurate one, see doc/window.md). */
+	LandmarkPolicy policy = LandmarkPolicy::Slam;
+	/** Evaluate every factor touching a state in the prior at that state's first estimate. Default true. */
+	bool first_estimate_jacobians = true;
+	/** Default Fixed. */
+	GaugeMode gauge = GaugeMode::Fixed;
+	/** Information (per tangent coordinate) of the gauge prior, GaugeMode::Prior only. Default 1e8. */
+	double gauge_prior_weight = 1e8;
+	/** Sensor noise override: a value ≤ 0 uses the observation's own sensor_std_* (default 0). Units: m, rad. */
+	double sensor_std_range = 0.0, sensor_std_yaw = 0.0, sensor_std_pitch = 0.0;
+	/** Floors of the odometry covariance. */
+	io::OdometryInformationOptions odometry;
+	/** Relative eigenvalue threshold of the marginal prior (see swba::marginalize). Default 1e-12. */
+	double marginalization_threshold = 1e-12;
+	/** LM options of the per-step solve. Defaults: max_iterations 10, function_tolerance 1e-9. */
+	SolverOptions solver = default_solver_options();
+
+	static SolverOptions default_solver_options();
+	/** Throws std::invalid_argument naming the bad option. */
+	void validate() const;
+};
+
+/** What one process() call did. */
+struct StepSummary
+{
+	std::size_t step = 0;
+	int iterations = 0;
+	double initial_cost = 0, final_cost = 0;
+	double seconds = 0;             ///< whole process() call
+	double solve_seconds = 0;       ///< LM solve
+	double marginalization_seconds = 0;
+	int window_poses = 0;
+	int landmarks = 0;              ///< landmark variables in the state
+	int prior_rank = 0;             ///< rows of the marginal prior (0: none)
+	int prior_variables = 0;
+	int readings = 0;               ///< observations added this step
+	int reanchored = 0;             ///< landmarks re-anchored this step
+	int marginalized_landmarks = 0; ///< landmarks marginalised this step (ConstantTime)
+};
+
+class SlidingWindowEstimator
+{
+   public:
+	/** Throws std::invalid_argument on invalid options. Starts with the first pose at the origin. */
+	explicit SlidingWindowEstimator(const SlidingWindowOptions& options);
+	~SlidingWindowEstimator();
+	SlidingWindowEstimator(const SlidingWindowEstimator&) = delete;
+	SlidingWindowEstimator& operator=(const SlidingWindowEstimator&) = delete;
+
+	/** Adds the step's pose (odometry) and observations, optimises the window and, when the window
+	 * is full, marginalises the oldest pose. Cost: one LM solve over the window's state (dense in the
+	 * prior's landmarks with the Slam policy) and one dense marginalisation. Throws
+	 * std::invalid_argument on a step without odometry after the first one. */
+	const StepSummary& process(const io::RawlogStep& step);
+	/** Moves the poses still in the window to the lagged trajectory. Call once at the end. */
+	void finish();
+
+	/** The newest pose's current estimate. */
+	mrpt::poses::CPose3D current_pose() const;
+	/** Poses in the window, oldest first: (time, pose). */
+	std::vector<std::pair<double, mrpt::poses::CPose3D>> window_poses() const;
+	/** Current landmark estimates (world XYZ) by landmark ID. */
+	std::map<std::int32_t, Eigen::Vector3d> landmarks() const;
+
+	/** Each pose as estimated right after its own step (t = k + 1). */
+	const eval::Trajectory& online_trajectory() const;
+	/** Each pose as estimated when it left the window (complete after finish()). */
+	const eval::Trajectory& lagged_trajectory() const;
+	const std::vector<StepSummary>& step_summaries() const;
+	const SlidingWindowOptions& options() const;
+
+	/** @name For tests: the last marginal prior's information H = JᵀJ over its variables, and the
+	 * ordering of its variables as (time of the pose or −1, landmark ID or −1).
+	 * @{ */
+	Eigen::MatrixXd prior_information() const;
+	std::vector<std::pair<double, std::int32_t>> prior_variables() const;
+	/** Stacked 6 global SE(3) gauge directions (columns) in the prior's tangent coordinates,
+	 * evaluated at the prior's linearisation point (x_lin / first estimates). */
+	Eigen::MatrixXd prior_gauge_directions() const;
+	/** @} */
+
+   private:
+	struct Impl;
+	std::unique_ptr<Impl> impl_;
+};
+
+/** Result of run_batch(). */
+struct BatchResult
+{
+	eval::Trajectory trajectory;
+	Summary summary;
+	double seconds = 0;
+};
+
+/** The same factors over the whole rawlog in one problem (window = ∞), initialised by dead
+ * reckoning and first observations, solved once. `max_iterations` overrides the options' solver. */
+BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& options, int max_iterations = 100);
+
+/** "Online, W = ∞": re-solves the whole history after every step and keeps the newest pose (the
+ * causal optimum the online window trajectory is measured against). O(steps²): for evaluation. */
+eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const SlidingWindowOptions& options);
+}  // namespace swba::estimators
