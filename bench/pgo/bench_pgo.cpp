@@ -1,0 +1,430 @@
+// swba_bench_pgo: solves the same g2o pose graphs with swba::solve, with Ceres 2.1 on the same reference
+// model (when built with Ceres) and with MRPT's graphslam::optimize_graph_spa_levmarq (when built with
+// mrpt-graphslam), in one run. Every final cost is re-evaluated with swba::io::pose_graph_cost, the
+// reference ½ Σ rᵀΛr of doc/pgo.md, so the numbers are comparable whatever each solver reports.
+//
+// Usage: swba_bench_pgo [--threads N] [--max-iterations K] [--repeat R] [--mrpt-max-iterations K]
+//                       [--no-mrpt] [--no-ceres] [graph.g2o ...]
+// Without graphs: sphere2500, parking-garage, smallGrid3D and intel from SWBA_DATA_DIR/posegraph.
+#include <swba/io/g2o.h>
+#include <swba/nonlinear/solver.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#ifdef SWBA_BENCH_HAVE_CERES
+#include <ceres/ceres.h>
+#endif
+#ifdef SWBA_BENCH_HAVE_MRPT_GRAPHSLAM
+#include <mrpt/graphs/CNetworkOfPoses.h>
+#include <mrpt/graphslam/levmarq.h>
+#include <mrpt/poses/CPose3DQuat.h>
+#endif
+
+namespace
+{
+using swba::io::PoseGraph;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+struct Settings
+{
+	int threads = 2;
+	int max_iterations = 100;
+	int repeat = 1;
+	int mrpt_max_iterations = 100;
+	bool run_ceres = true;
+	bool run_mrpt = true;
+	std::vector<std::string> graphs;
+};
+
+struct Result
+{
+	std::string solver;
+	double final_cost = -1;  // pose_graph_cost of the solver's output
+	double reported_cost = -1;  // what the solver itself reports (its own definition)
+	int iterations = 0;
+	double setup_s = 0, solve_s = 0;
+	std::string note;
+};
+
+// ---------------------------------------------------------------- swba
+Result run_swba(const PoseGraph& input, const Settings& s)
+{
+	Result r;
+	r.solver = "swba";
+	for (int rep = 0; rep < s.repeat; rep++)
+	{
+		PoseGraph g = input;
+		auto t0 = Clock::now();
+		auto pp = swba::io::build_pose_graph_problem(g);
+		const double setup = seconds_since(t0);
+		swba::SolverOptions o;
+		o.max_iterations = s.max_iterations;
+		o.num_threads = s.threads;
+		t0 = Clock::now();
+		const auto summary = swba::solve(pp.problem, o);
+		const double solve = seconds_since(t0);
+		swba::io::update_pose_graph(g, pp);
+		if (rep == 0 || solve < r.solve_s)
+		{
+			r.setup_s = setup;
+			r.solve_s = solve;
+		}
+		r.final_cost = swba::io::pose_graph_cost(g);
+		r.reported_cost = summary.final_cost;
+		r.iterations = summary.iterations;
+		r.note = summary.brief_report();
+	}
+	return r;
+}
+
+// ---------------------------------------------------------------- Ceres
+#ifdef SWBA_BENCH_HAVE_CERES
+/** Reference 3D model: r = Lᵀ·[R_aᵀ(t_b − t_a) − t_ab ; 2·vec(q_ab⁻¹·q_a⁻¹·q_b)], Λ = L·Lᵀ. */
+struct ReferencePose3dCost
+{
+	explicit ReferencePose3dCost(const swba::io::PoseGraphEdge3& e) : t_ab(e.t), q_ab_inv(e.q.conjugate())
+	{
+		W = e.information.llt().matrixL().transpose();
+	}
+	template <typename T>
+	bool operator()(const T* pa, const T* qa, const T* pb, const T* qb, T* residual) const
+	{
+		const Eigen::Map<const Eigen::Matrix<T, 3, 1>> p_a(pa), p_b(pb);
+		const Eigen::Map<const Eigen::Quaternion<T>> q_a(qa), q_b(qb);
+		const Eigen::Quaternion<T> q_a_inv = q_a.conjugate();
+		const Eigen::Quaternion<T> dq = q_ab_inv.template cast<T>() * q_a_inv * q_b;
+		Eigen::Map<Eigen::Matrix<T, 6, 1>> r(residual);
+		r.template head<3>() = q_a_inv * (p_b - p_a) - t_ab.template cast<T>();
+		r.template tail<3>() = T(2.0) * dq.vec();
+		r.applyOnTheLeft(W.template cast<T>());
+		return true;
+	}
+	Eigen::Vector3d t_ab;
+	Eigen::Quaterniond q_ab_inv;
+	Eigen::Matrix<double, 6, 6> W;
+	EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+template <typename T>
+T normalize_angle(const T& a)
+{
+	const T two_pi(2.0 * M_PI);
+	return a - two_pi * ceres::floor((a + T(M_PI)) / two_pi);
+}
+
+/** Reference 2D model: r = Lᵀ·[R(θ_a)ᵀ(p_b − p_a) − p_ab ; wrap(θ_b − θ_a − θ_ab)]. */
+struct ReferencePose2dCost
+{
+	explicit ReferencePose2dCost(const swba::io::PoseGraphEdge2& e) : x(e.x), y(e.y), theta(e.theta)
+	{
+		W = e.information.llt().matrixL().transpose();
+	}
+	template <typename T>
+	bool operator()(const T* a, const T* b, T* residual) const
+	{
+		const T c = ceres::cos(a[2]), s = ceres::sin(a[2]);
+		const T dx = b[0] - a[0], dy = b[1] - a[1];
+		Eigen::Matrix<T, 3, 1> r(c * dx + s * dy - T(x), -s * dx + c * dy - T(y),
+								 normalize_angle(b[2] - a[2] - T(theta)));
+		Eigen::Map<Eigen::Matrix<T, 3, 1>>(residual) = W.template cast<T>() * r;
+		return true;
+	}
+	double x, y, theta;
+	Eigen::Matrix3d W;
+};
+
+Result run_ceres(const PoseGraph& input, const Settings& s)
+{
+	Result res;
+	res.solver = "ceres";
+	for (int rep = 0; rep < s.repeat; rep++)
+	{
+		PoseGraph g = input;
+		auto t0 = Clock::now();
+		ceres::Problem problem;
+		// Parameter storage: 3D p(3) + q(4, Eigen order x y z w); 2D (x, y, θ).
+		std::map<swba::io::G2oId, std::array<double, 7>> params;
+		for (const auto& [id, v] : g.vertices3)
+		{
+			auto& p = params[id];
+			for (int i = 0; i < 3; i++) p[i] = v.t[i];
+			for (int i = 0; i < 4; i++) p[3 + i] = v.q.coeffs()[i];
+		}
+		for (const auto& [id, v] : g.vertices2) params[id] = {v.x, v.y, v.theta, 0, 0, 0, 0};
+		for (const auto& e : g.edges3)
+		{
+			double* a = params.at(e.from).data();
+			double* b = params.at(e.to).data();
+			problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ReferencePose3dCost, 6, 3, 4, 3, 4>(
+										 new ReferencePose3dCost(e)),
+									 nullptr, a, a + 3, b, b + 3);
+		}
+		for (const auto& e : g.edges2)
+			problem.AddResidualBlock(
+				new ceres::AutoDiffCostFunction<ReferencePose2dCost, 3, 3, 3>(new ReferencePose2dCost(e)), nullptr,
+				params.at(e.from).data(), params.at(e.to).data());
+		auto* quaternion_manifold = new ceres::EigenQuaternionManifold;  // owned by the problem
+		bool manifold_used = false;
+		for (auto& [id, p] : params)
+		{
+			if (!g.is_2d() && problem.HasParameterBlock(p.data() + 3))
+			{
+				problem.SetManifold(p.data() + 3, quaternion_manifold);
+				manifold_used = true;
+			}
+		}
+		if (!manifold_used) delete quaternion_manifold;
+		// Gauge: FIX lines, else the lowest id (as swba's default).
+		std::set<swba::io::G2oId> fixed = g.fixed;
+		if (fixed.empty()) fixed.insert(params.begin()->first);
+		for (auto id : fixed)
+		{
+			double* p = params.at(id).data();
+			if (problem.HasParameterBlock(p)) problem.SetParameterBlockConstant(p);
+			if (!g.is_2d() && problem.HasParameterBlock(p + 3)) problem.SetParameterBlockConstant(p + 3);
+		}
+		const double setup = seconds_since(t0);
+
+		ceres::Solver::Options o;
+		o.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+		o.max_num_iterations = s.max_iterations;
+		o.num_threads = s.threads;
+		o.minimizer_progress_to_stdout = false;
+		ceres::Solver::Summary summary;
+		t0 = Clock::now();
+		ceres::Solve(o, &problem, &summary);
+		const double solve = seconds_since(t0);
+
+		for (auto& [id, v] : g.vertices3)
+		{
+			const auto& p = params.at(id);
+			v.t = Eigen::Vector3d(p[0], p[1], p[2]);
+			v.q = Eigen::Quaterniond(p[6], p[3], p[4], p[5]).normalized();
+		}
+		for (auto& [id, v] : g.vertices2)
+		{
+			const auto& p = params.at(id);
+			v = {p[0], p[1], p[2]};
+		}
+		if (rep == 0 || solve < res.solve_s)
+		{
+			res.setup_s = setup;
+			res.solve_s = solve;
+		}
+		res.final_cost = swba::io::pose_graph_cost(g);
+		res.reported_cost = summary.final_cost;
+		res.iterations = static_cast<int>(summary.iterations.size()) - 1;  // iteration 0 is the start
+		res.note = summary.BriefReport();
+	}
+	return res;
+}
+#endif
+
+// ---------------------------------------------------------------- MRPT
+#ifdef SWBA_BENCH_HAVE_MRPT_GRAPHSLAM
+Result run_mrpt(const PoseGraph& input, const Settings& s)
+{
+	Result res;
+	res.solver = "mrpt";
+	PoseGraph g = input;
+	try
+	{
+		mrpt::graphslam::TResultInfoSpaLevMarq info;
+		mrpt::containers::yaml params;
+		params["max_iterations"] = s.mrpt_max_iterations;
+		const auto first = g.is_2d() ? g.vertices2.begin()->first : g.vertices3.begin()->first;
+		if (!g.is_2d())
+		{
+			auto t0 = Clock::now();
+			mrpt::graphs::CNetworkOfPoses3DInf G;
+			const auto to_pose = [](const Eigen::Vector3d& t, const Eigen::Quaterniond& q) {
+				return mrpt::poses::CPose3D(mrpt::poses::CPose3DQuat(
+					t.x(), t.y(), t.z(), mrpt::math::CQuaternionDouble(q.w(), q.x(), q.y(), q.z())));
+			};
+			for (const auto& [id, v] : g.vertices3) G.nodes[static_cast<mrpt::graphs::TNodeID>(id)] = to_pose(v.t, v.q);
+			for (const auto& e : g.edges3)
+			{
+				mrpt::poses::CPose3DPDFGaussianInf pdf;
+				pdf.mean = to_pose(e.t, e.q);
+				// MRPT's levmarq whitens the pseudo-log [t; ω] with cov_inv as is, so the g2o information,
+				// ordered (x, y, z, qx, qy, qz) ≈ (t, ω), is passed unpermuted.
+				pdf.cov_inv.asEigen() = e.information;
+				G.insertEdge(static_cast<mrpt::graphs::TNodeID>(e.from), static_cast<mrpt::graphs::TNodeID>(e.to), pdf);
+			}
+			G.root = static_cast<mrpt::graphs::TNodeID>(first);
+			res.setup_s = seconds_since(t0);
+			t0 = Clock::now();
+			mrpt::graphslam::optimize_graph_spa_levmarq(G, info, nullptr, params);
+			res.solve_s = seconds_since(t0);
+			for (auto& [id, v] : g.vertices3)
+			{
+				const auto& P = G.nodes.at(static_cast<mrpt::graphs::TNodeID>(id));
+				v.t = Eigen::Vector3d(P.x(), P.y(), P.z());
+				v.q = Eigen::Quaterniond(Eigen::Matrix3d(P.getRotationMatrix().asEigen())).normalized();
+			}
+		}
+		else
+		{
+			auto t0 = Clock::now();
+			mrpt::graphs::CNetworkOfPoses2DInf G;
+			for (const auto& [id, v] : g.vertices2)
+				G.nodes[static_cast<mrpt::graphs::TNodeID>(id)] = mrpt::poses::CPose2D(v.x, v.y, v.theta);
+			for (const auto& e : g.edges2)
+			{
+				mrpt::poses::CPosePDFGaussianInf pdf;
+				pdf.mean = mrpt::poses::CPose2D(e.x, e.y, e.theta);
+				pdf.cov_inv.asEigen() = e.information;
+				G.insertEdge(static_cast<mrpt::graphs::TNodeID>(e.from), static_cast<mrpt::graphs::TNodeID>(e.to), pdf);
+			}
+			G.root = static_cast<mrpt::graphs::TNodeID>(first);
+			res.setup_s = seconds_since(t0);
+			t0 = Clock::now();
+			mrpt::graphslam::optimize_graph_spa_levmarq(G, info, nullptr, params);
+			res.solve_s = seconds_since(t0);
+			for (auto& [id, v] : g.vertices2)
+			{
+				const auto& P = G.nodes.at(static_cast<mrpt::graphs::TNodeID>(id));
+				v = {P.x(), P.y(), P.phi()};
+			}
+		}
+		res.iterations = static_cast<int>(info.num_iters);
+		res.reported_cost = info.final_total_sq_error;
+		res.final_cost = swba::io::pose_graph_cost(g);
+		res.note = "reported cost = MRPT's unweighted sum of squared errors";
+	}
+	catch (const std::exception& e)
+	{
+		std::string what = e.what();
+		std::replace(what.begin(), what.end(), '\n', ' ');
+		res.note = "FAILED: " + what.substr(0, 200);
+	}
+	return res;
+}
+#endif
+
+int parse_int(const char* s, const char* name)
+{
+	char* end = nullptr;
+	const long v = std::strtol(s, &end, 10);
+	if (!s[0] || *end || v < 1)
+	{
+		std::fprintf(stderr, "swba_bench_pgo: %s needs a positive integer, got '%s'\n", name, s);
+		std::exit(2);
+	}
+	return static_cast<int>(v);
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+	Settings s;
+	for (int i = 1; i < argc; i++)
+	{
+		const std::string a = argv[i];
+		const auto next = [&]() -> const char* {
+			if (i + 1 >= argc)
+			{
+				std::fprintf(stderr, "swba_bench_pgo: %s needs a value\n", a.c_str());
+				std::exit(2);
+			}
+			return argv[++i];
+		};
+		if (a == "--threads") s.threads = parse_int(next(), "--threads");
+		else if (a == "--max-iterations") s.max_iterations = parse_int(next(), "--max-iterations");
+		else if (a == "--repeat") s.repeat = parse_int(next(), "--repeat");
+		else if (a == "--mrpt-max-iterations") s.mrpt_max_iterations = parse_int(next(), "--mrpt-max-iterations");
+		else if (a == "--no-mrpt") s.run_mrpt = false;
+		else if (a == "--no-ceres") s.run_ceres = false;
+		else if (a == "--help" || a == "-h")
+		{
+			std::printf("usage: swba_bench_pgo [--threads N] [--max-iterations K] [--repeat R] "
+						"[--mrpt-max-iterations K] [--no-mrpt] [--no-ceres] [graph.g2o ...]\n");
+			return 0;
+		}
+		else if (!a.empty() && a[0] == '-')
+		{
+			std::fprintf(stderr, "swba_bench_pgo: unknown option %s\n", a.c_str());
+			return 2;
+		}
+		else s.graphs.push_back(a);
+	}
+	if (s.graphs.empty())
+		for (const char* n : {"sphere2500", "parking-garage", "smallGrid3D", "intel"})
+			s.graphs.push_back(std::string(SWBA_DATA_DIR) + "/posegraph/" + n + ".g2o");
+
+	std::printf("swba_bench_pgo: threads %d, max iterations %d, best of %d; ceres %s, mrpt graphslam %s\n",
+				s.threads, s.max_iterations, s.repeat,
+#ifdef SWBA_BENCH_HAVE_CERES
+				s.run_ceres ? "on" : "off",
+#else
+				"not built",
+#endif
+#ifdef SWBA_BENCH_HAVE_MRPT_GRAPHSLAM
+				s.run_mrpt ? "on" : "off"
+#else
+				"not built"
+#endif
+	);
+	std::printf("final cost = 1/2 sum r^T Lambda r of the reference model (doc/pgo.md), recomputed for every solver\n\n");
+	std::printf("%-16s %-6s %14s %16s %16s %6s %9s %9s %10s\n", "graph", "solver", "initial cost", "final cost",
+				"solver's cost", "iters", "setup[s]", "solve[s]", "ours/ceres");
+	int rc = 0;
+	for (const auto& path : s.graphs)
+	{
+		PoseGraph g;
+		try
+		{
+			g = swba::io::read_g2o(path);
+		}
+		catch (const std::exception& e)
+		{
+			std::fprintf(stderr, "%s\n", e.what());
+			rc = 1;
+			continue;
+		}
+		std::string name = path.substr(path.find_last_of('/') + 1);
+		if (name.size() > 4 && name.substr(name.size() - 4) == ".g2o") name.resize(name.size() - 4);
+		const double initial = swba::io::pose_graph_cost(g);
+		std::vector<Result> results;
+		results.push_back(run_swba(g, s));
+#ifdef SWBA_BENCH_HAVE_CERES
+		if (s.run_ceres) results.push_back(run_ceres(g, s));
+#endif
+#ifdef SWBA_BENCH_HAVE_MRPT_GRAPHSLAM
+		if (s.run_mrpt) results.push_back(run_mrpt(g, s));
+#endif
+		const Result* ceres = nullptr;
+		for (const auto& r : results)
+			if (r.solver == "ceres") ceres = &r;
+		for (const auto& r : results)
+		{
+			char ratio[32] = "";
+			if (ceres && r.solver == "swba" && ceres->solve_s > 0)
+				std::snprintf(ratio, sizeof ratio, "%.2f", r.solve_s / ceres->solve_s);
+			if (r.final_cost < 0)
+				std::printf("%-16s %-6s %14.6e %16s %16s %6s %9s %9s %10s  %s\n", name.c_str(), r.solver.c_str(),
+							initial, "-", "-", "-", "-", "-", "", r.note.c_str());
+			else
+				std::printf("%-16s %-6s %14.6e %16.10g %16.10g %6d %9.3f %9.3f %10s\n", name.c_str(), r.solver.c_str(),
+							initial, r.final_cost, r.reported_cost, r.iterations, r.setup_s, r.solve_s, ratio);
+		}
+		if (ceres && ceres->final_cost > 0)
+			std::printf("%-16s relative final-cost difference swba vs ceres: %+.2e\n", name.c_str(),
+						(results[0].final_cost - ceres->final_cost) / ceres->final_cost);
+		for (const auto& r : results)
+			if (!r.note.empty() && r.final_cost >= 0)
+				std::printf("%-16s   %s: %s\n", name.c_str(), r.solver.c_str(), r.note.c_str());
+		std::fflush(stdout);
+	}
+	return rc;
+}

@@ -1,0 +1,79 @@
+/** \file relative_pose.h
+ * Pose-graph factors in the formulation of the g2o / Ceres `pose_graph_3d` reference model, so that
+ * costs are directly comparable with a Ceres solve of the same graph.
+ *
+ * 3D (variables on SE3Manifold, right perturbations δ = [ρ, ω], T ⊞ δ = T·PseudoExp(δ)):
+ *   r = [ R_aᵀ(t_b − t_a) − t_ab ;  2·vec(q(E)) ],   E = R_abᵀ·R_aᵀ·R_b,
+ * where q(E) is the unit quaternion of E with w ≥ 0 (i.e. 2·vec(q_ab⁻¹·q_a⁻¹·q_b) with the sign
+ * chosen so that the rotation error is measured the short way round). For small errors the rotation
+ * part equals the rotation vector of E (2·vec(q) ≈ θ·u), so the g2o information block of
+ * (qx, qy, qz) applies to it without rescaling: the residual is ordered (x, y, z, qx, qy, qz) exactly
+ * like the 21 upper-triangular information entries of EDGE_SE3:QUAT.
+ *
+ * 2D (native SE(2), variables on EuclideanManifold(3) holding (x, y, θ)):
+ *   r = [ R(θ_a)ᵀ(p_b − p_a) − p_ab ;  wrap(θ_b − θ_a − θ_ab) ],  wrap to (−π, π],
+ * ordered (x, y, θ) like EDGE_SE2's 6 information entries. */
+#pragma once
+
+#include <swba/core/factor.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace swba
+{
+/** Relative SE(3) pose measurement Z = (q_ab, t_ab) of pose b in the frame of pose a. */
+class RelativePoseFactor final : public Factor
+{
+   public:
+	/** `q_ab` is normalised here. */
+	RelativePoseFactor(const Eigen::Quaterniond& q_ab, const Eigen::Vector3d& t_ab);
+
+	bool evaluate(const double* const* x, double* residual, double* const* jacobians) const override;
+
+	const Eigen::Quaterniond& rotation() const { return q_ab_; }
+	const Eigen::Vector3d& translation() const { return t_ab_; }
+
+   private:
+	Eigen::Quaterniond q_ab_;
+	Eigen::Matrix3d R_ab_T_;  // R_abᵀ
+	Eigen::Vector3d t_ab_;
+};
+
+/** Unary prior on an SE(3) pose with the same residual as RelativePoseFactor with pose a fixed to
+ * the prior mean T0: r = [R0ᵀ(t − t0) ; 2·vec(q(R0ᵀR))]. Used for the prior gauge. */
+class PosePriorQuatFactor final : public Factor
+{
+   public:
+	PosePriorQuatFactor(const Eigen::Quaterniond& q0, const Eigen::Vector3d& t0);
+	bool evaluate(const double* const* x, double* residual, double* const* jacobians) const override;
+
+   private:
+	Eigen::Matrix3d R0_T_;
+	Eigen::Vector3d t0_;
+};
+
+/** Relative SE(2) measurement (x_ab, y_ab, θ_ab); variables are (x, y, θ) on EuclideanManifold(3). */
+class RelativePose2dFactor final : public Factor
+{
+   public:
+	RelativePose2dFactor(double x_ab, double y_ab, double theta_ab);
+	bool evaluate(const double* const* x, double* residual, double* const* jacobians) const override;
+
+   private:
+	Eigen::Vector2d p_ab_;
+	double theta_ab_;
+};
+
+/** Unary SE(2) prior: r = [R(θ0)ᵀ(p − p0) ; wrap(θ − θ0)]. */
+class PosePrior2dFactor final : public Factor
+{
+   public:
+	PosePrior2dFactor(double x0, double y0, double theta0);
+	bool evaluate(const double* const* x, double* residual, double* const* jacobians) const override;
+
+   private:
+	Eigen::Vector2d p0_;
+	double theta0_;
+};
+}  // namespace swba

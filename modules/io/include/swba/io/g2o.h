@@ -1,0 +1,129 @@
+/** \file g2o.h
+ * g2o pose graphs: reading, writing, turning them into a swba::Problem and evaluating their cost.
+ *
+ * Supported lines (whitespace separated, one element per line):
+ *   VERTEX_SE3:QUAT id x y z qx qy qz qw
+ *   EDGE_SE3:QUAT   i j x y z qx qy qz qw  I11 I12 … I16 I22 … I66   (21 upper-triangular entries,
+ *                   ordered x, y, z, qx, qy, qz)
+ *   VERTEX_SE2 id x y θ
+ *   EDGE_SE2   i j x y θ  I11 I12 I13 I22 I23 I33
+ *   FIX id [id …]
+ * Blank lines and lines starting with '#' are ignored; lines with any other tag are skipped and
+ * counted (PoseGraph::skipped_tags). A file holds either 2D or 3D elements, not both.
+ * Quaternions (vertices and edges) are normalised on read. Errors (std::runtime_error) name the
+ * source and the line: malformed or non-finite numbers, missing or extra fields, unknown vertex ids
+ * in edges or FIX lines, duplicate vertex ids, zero quaternions, information matrices that are not
+ * positive definite.
+ *
+ * 2D graphs are handled natively (poses (x, y, θ), RelativePose2dFactor), not lifted into SE(3). */
+#pragma once
+
+#include <swba/core/loss.h>
+#include <swba/nonlinear/problem.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <iosfwd>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace swba::io
+{
+using G2oId = std::int64_t;
+
+struct PoseGraphVertex3
+{
+	Eigen::Vector3d t = Eigen::Vector3d::Zero();
+	Eigen::Quaterniond q = Eigen::Quaterniond::Identity();  ///< unit
+};
+struct PoseGraphVertex2
+{
+	double x = 0, y = 0, theta = 0;
+};
+struct PoseGraphEdge3
+{
+	G2oId from = 0, to = 0;
+	Eigen::Vector3d t = Eigen::Vector3d::Zero();             ///< t_ab, pose `to` in frame `from`
+	Eigen::Quaterniond q = Eigen::Quaterniond::Identity();  ///< q_ab, unit
+	Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Identity();  ///< (x,y,z,qx,qy,qz)
+	int line = 0;  ///< source line (0 when built in code)
+};
+struct PoseGraphEdge2
+{
+	G2oId from = 0, to = 0;
+	double x = 0, y = 0, theta = 0;
+	Eigen::Matrix3d information = Eigen::Matrix3d::Identity();  ///< (x, y, θ)
+	int line = 0;
+};
+
+/** A pose graph as read from a g2o file. Exactly one of the 2D/3D containers is used. */
+struct PoseGraph
+{
+	std::map<G2oId, PoseGraphVertex3> vertices3;
+	std::map<G2oId, PoseGraphVertex2> vertices2;
+	std::vector<PoseGraphEdge3> edges3;
+	std::vector<PoseGraphEdge2> edges2;
+	std::set<G2oId> fixed;                   ///< FIX lines
+	std::map<std::string, int> skipped_tags; ///< unknown tag → number of lines skipped
+
+	bool is_2d() const { return !vertices2.empty() || !edges2.empty(); }
+	size_t num_vertices() const { return vertices3.size() + vertices2.size(); }
+	size_t num_edges() const { return edges3.size() + edges2.size(); }
+	/** "skipped 3 lines with unknown tag(s): PARAMS_SE3OFFSET ×1, EDGE_SE3_PRIOR ×2", or "". */
+	std::string skipped_summary() const;
+};
+
+/** Reads a g2o file; throws std::runtime_error("<path>:<line>: <reason>") on malformed input. */
+PoseGraph read_g2o(const std::string& path);
+/** Same, from a stream; `source_name` prefixes error messages. */
+PoseGraph read_g2o(std::istream& in, const std::string& source_name = "<stream>");
+
+/** Writes vertices (in id order), edges (in stored order) and FIX lines with %.17g, so that a
+ * read → write → read round trip reproduces every number to the last bit of the normalised values. */
+void write_g2o(const PoseGraph& graph, const std::string& path);
+void write_g2o(const PoseGraph& graph, std::ostream& out);
+
+/** How the gauge (global pose freedom) is removed. */
+enum class PoseGraphGauge
+{
+	FixFirst,  ///< vertices of FIX lines constant; if there are none, the vertex with the lowest id
+	Prior,     ///< FIX lines honoured; if there are none, a strong prior on the lowest-id vertex
+	Free       ///< only FIX lines; the remaining freedom is left to the LM damping
+};
+/** Parses "fix", "prior", "free"; throws std::invalid_argument otherwise. */
+PoseGraphGauge parse_pose_graph_gauge(const std::string& name);
+
+struct PoseGraphProblemOptions
+{
+	PoseGraphGauge gauge = PoseGraphGauge::FixFirst;
+	/** Standard deviation of the gauge prior, in metres and radians (W = I/σ). Default 1e-3. */
+	double prior_sigma = 1e-3;
+	/** Robust loss for every edge (null = plain least squares). Default null. */
+	std::shared_ptr<const LossFunction> loss;
+};
+
+/** A Problem built from a PoseGraph, with the map from g2o ids to variables. */
+struct PoseGraphProblem
+{
+	Problem problem;
+	std::map<G2oId, VariableId> variable_of;
+	int num_constant = 0;  ///< vertices held constant (gauge or FIX)
+	bool has_prior = false;
+};
+
+/** One variable per vertex (SE3Manifold, or (x, y, θ) on EuclideanManifold(3) for 2D), one
+ * RelativePoseFactor / RelativePose2dFactor per edge with its information, gauge as requested.
+ * Throws std::invalid_argument on an empty graph. */
+PoseGraphProblem build_pose_graph_problem(const PoseGraph& graph, const PoseGraphProblemOptions& options = {});
+
+/** Copies the problem's variable values back into the graph's vertices. */
+void update_pose_graph(PoseGraph& graph, const PoseGraphProblem& problem);
+
+/** Cost of the reference model, ½ Σ rᵀΛr over all edges (no loss, no prior), at the graph's
+ * vertex values; r as in relative_pose.h. Independent of any Problem: used to compare peers. */
+double pose_graph_cost(const PoseGraph& graph);
+}  // namespace swba::io

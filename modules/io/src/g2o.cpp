@@ -1,0 +1,268 @@
+// g2o pose-graph reader and writer.
+#include <swba/io/g2o.h>
+
+#include <Eigen/Cholesky>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace swba::io
+{
+namespace
+{
+constexpr const char* kVertex3 = "VERTEX_SE3:QUAT";
+constexpr const char* kEdge3 = "EDGE_SE3:QUAT";
+constexpr const char* kVertex2 = "VERTEX_SE2";
+constexpr const char* kEdge2 = "EDGE_SE2";
+constexpr const char* kFix = "FIX";
+
+/** Parsing context of one line: error messages carry "<source>:<line>: <tag>: ". */
+struct LineContext
+{
+	const std::string& source;
+	int line;
+	const std::string& tag;
+
+	[[noreturn]] void fail(const std::string& why) const
+	{
+		throw std::runtime_error(source + ":" + std::to_string(line) + ": " + tag + ": " + why);
+	}
+	void expect_fields(const std::vector<std::string>& tok, size_t n, const char* layout) const
+	{
+		if (tok.size() - 1 != n)
+			fail("expected " + std::to_string(n) + " fields (" + layout + "), found " +
+				 std::to_string(tok.size() - 1));
+	}
+	double number(const std::vector<std::string>& tok, size_t i) const
+	{
+		const char* s = tok[i].c_str();
+		char* end = nullptr;
+		errno = 0;
+		const double v = std::strtod(s, &end);
+		if (end == s || *end != '\0' || errno == ERANGE || !std::isfinite(v))
+			fail("field " + std::to_string(i) + " ('" + tok[i] + "') is not a finite number");
+		return v;
+	}
+	G2oId id(const std::vector<std::string>& tok, size_t i) const
+	{
+		const char* s = tok[i].c_str();
+		char* end = nullptr;
+		errno = 0;
+		const long long v = std::strtoll(s, &end, 10);
+		if (end == s || *end != '\0' || errno == ERANGE)
+			fail("field " + std::to_string(i) + " ('" + tok[i] + "') is not an integer vertex id");
+		return static_cast<G2oId>(v);
+	}
+	Eigen::Quaterniond quaternion(const std::vector<std::string>& tok, size_t first) const
+	{
+		Eigen::Quaterniond q(number(tok, first + 3), number(tok, first), number(tok, first + 1),
+							 number(tok, first + 2));
+		const double n = q.norm();
+		if (!(n > 1e-12)) fail("quaternion has zero norm");
+		// Already unit to rounding: left as is, so that normalising is idempotent and a written
+		// graph reads back bit for bit.
+		if (std::abs(n - 1.0) > 1e-15) q.coeffs() /= n;
+		return q;
+	}
+	/** Reads the upper triangle (row by row) of an n×n information matrix and checks it is SPD. */
+	template <int N>
+	Eigen::Matrix<double, N, N> information(const std::vector<std::string>& tok, size_t first) const
+	{
+		Eigen::Matrix<double, N, N> I;
+		size_t k = first;
+		for (int r = 0; r < N; r++)
+			for (int c = r; c < N; c++) I(r, c) = I(c, r) = number(tok, k++);
+		Eigen::LLT<Eigen::Matrix<double, N, N>> llt(I);
+		if (llt.info() != Eigen::Success) fail("information matrix is not positive definite");
+		return I;
+	}
+};
+
+std::vector<std::string> split(const std::string& line)
+{
+	std::vector<std::string> tok;
+	std::istringstream ss(line);
+	std::string t;
+	while (ss >> t) tok.push_back(t);
+	return tok;
+}
+
+void put(std::ostream& out, double v)
+{
+	char buf[40];
+	std::snprintf(buf, sizeof buf, " %.17g", v);
+	out << buf;
+}
+}  // namespace
+
+std::string PoseGraph::skipped_summary() const
+{
+	if (skipped_tags.empty()) return {};
+	int total = 0;
+	std::string list;
+	for (const auto& [tag, n] : skipped_tags)
+	{
+		total += n;
+		list += (list.empty() ? "" : ", ") + tag + " x" + std::to_string(n);
+	}
+	return "skipped " + std::to_string(total) + " line(s) with unknown tag(s): " + list;
+}
+
+PoseGraph read_g2o(const std::string& path)
+{
+	std::ifstream in(path);
+	if (!in) throw std::runtime_error("cannot open g2o file '" + path + "'");
+	return read_g2o(in, path);
+}
+
+PoseGraph read_g2o(std::istream& in, const std::string& source_name)
+{
+	PoseGraph g;
+	std::vector<std::pair<G2oId, int>> fix_lines;  // (id, line)
+	enum class Kind
+	{
+		Unknown,
+		Two,
+		Three
+	} kind = Kind::Unknown;
+	std::string line;
+	int line_no = 0;
+	while (std::getline(in, line))
+	{
+		line_no++;
+		const auto tok = split(line);
+		if (tok.empty() || tok[0][0] == '#') continue;
+		const std::string& tag = tok[0];
+		const LineContext ctx{source_name, line_no, tag};
+		const auto set_kind = [&](Kind k) {
+			if (kind != Kind::Unknown && kind != k) ctx.fail("a file may not mix 2D and 3D elements");
+			kind = k;
+		};
+		if (tag == kVertex3)
+		{
+			set_kind(Kind::Three);
+			ctx.expect_fields(tok, 8, "id x y z qx qy qz qw");
+			const G2oId id = ctx.id(tok, 1);
+			PoseGraphVertex3 v;
+			v.t = Eigen::Vector3d(ctx.number(tok, 2), ctx.number(tok, 3), ctx.number(tok, 4));
+			v.q = ctx.quaternion(tok, 5);
+			if (!g.vertices3.emplace(id, v).second) ctx.fail("duplicate vertex id " + std::to_string(id));
+		}
+		else if (tag == kEdge3)
+		{
+			set_kind(Kind::Three);
+			ctx.expect_fields(tok, 30, "i j x y z qx qy qz qw + 21 information entries");
+			PoseGraphEdge3 e;
+			e.from = ctx.id(tok, 1);
+			e.to = ctx.id(tok, 2);
+			if (e.from == e.to) ctx.fail("edge connects vertex " + std::to_string(e.from) + " to itself");
+			e.t = Eigen::Vector3d(ctx.number(tok, 3), ctx.number(tok, 4), ctx.number(tok, 5));
+			e.q = ctx.quaternion(tok, 6);
+			e.information = ctx.information<6>(tok, 10);
+			e.line = line_no;
+			g.edges3.push_back(e);
+		}
+		else if (tag == kVertex2)
+		{
+			set_kind(Kind::Two);
+			ctx.expect_fields(tok, 4, "id x y theta");
+			const G2oId id = ctx.id(tok, 1);
+			const PoseGraphVertex2 v{ctx.number(tok, 2), ctx.number(tok, 3), ctx.number(tok, 4)};
+			if (!g.vertices2.emplace(id, v).second) ctx.fail("duplicate vertex id " + std::to_string(id));
+		}
+		else if (tag == kEdge2)
+		{
+			set_kind(Kind::Two);
+			ctx.expect_fields(tok, 11, "i j x y theta + 6 information entries");
+			PoseGraphEdge2 e;
+			e.from = ctx.id(tok, 1);
+			e.to = ctx.id(tok, 2);
+			if (e.from == e.to) ctx.fail("edge connects vertex " + std::to_string(e.from) + " to itself");
+			e.x = ctx.number(tok, 3);
+			e.y = ctx.number(tok, 4);
+			e.theta = ctx.number(tok, 5);
+			e.information = ctx.information<3>(tok, 6);
+			e.line = line_no;
+			g.edges2.push_back(e);
+		}
+		else if (tag == kFix)
+		{
+			if (tok.size() < 2) ctx.fail("expected at least one vertex id");
+			for (size_t i = 1; i < tok.size(); i++) fix_lines.emplace_back(ctx.id(tok, i), line_no);
+		}
+		else
+			g.skipped_tags[tag]++;
+	}
+	if (in.bad()) throw std::runtime_error(source_name + ": read error");
+
+	const auto has_vertex = [&](G2oId id) { return g.vertices3.count(id) || g.vertices2.count(id); };
+	const auto check_edge = [&](G2oId from, G2oId to, int ln, const char* tag) {
+		for (G2oId id : {from, to})
+			if (!has_vertex(id))
+				throw std::runtime_error(source_name + ":" + std::to_string(ln) + ": " + tag +
+										 ": vertex " + std::to_string(id) + " is not defined");
+	};
+	for (const auto& e : g.edges3) check_edge(e.from, e.to, e.line, kEdge3);
+	for (const auto& e : g.edges2) check_edge(e.from, e.to, e.line, kEdge2);
+	for (const auto& [id, ln] : fix_lines)
+	{
+		if (!has_vertex(id))
+			throw std::runtime_error(source_name + ":" + std::to_string(ln) + ": FIX: vertex " +
+									 std::to_string(id) + " is not defined");
+		g.fixed.insert(id);
+	}
+	return g;
+}
+
+void write_g2o(const PoseGraph& g, const std::string& path)
+{
+	std::ofstream out(path);
+	if (!out) throw std::runtime_error("cannot create g2o file '" + path + "'");
+	write_g2o(g, out);
+	out.flush();
+	if (!out) throw std::runtime_error("error while writing g2o file '" + path + "'");
+}
+
+void write_g2o(const PoseGraph& g, std::ostream& out)
+{
+	for (const auto& [id, v] : g.vertices3)
+	{
+		out << kVertex3 << ' ' << id;
+		for (int i = 0; i < 3; i++) put(out, v.t[i]);
+		for (int i = 0; i < 4; i++) put(out, v.q.coeffs()[i]);  // x y z w
+		out << '\n';
+	}
+	for (const auto& [id, v] : g.vertices2)
+	{
+		out << kVertex2 << ' ' << id;
+		put(out, v.x);
+		put(out, v.y);
+		put(out, v.theta);
+		out << '\n';
+	}
+	for (const auto& e : g.edges3)
+	{
+		out << kEdge3 << ' ' << e.from << ' ' << e.to;
+		for (int i = 0; i < 3; i++) put(out, e.t[i]);
+		for (int i = 0; i < 4; i++) put(out, e.q.coeffs()[i]);
+		for (int r = 0; r < 6; r++)
+			for (int c = r; c < 6; c++) put(out, e.information(r, c));
+		out << '\n';
+	}
+	for (const auto& e : g.edges2)
+	{
+		out << kEdge2 << ' ' << e.from << ' ' << e.to;
+		put(out, e.x);
+		put(out, e.y);
+		put(out, e.theta);
+		for (int r = 0; r < 3; r++)
+			for (int c = r; c < 3; c++) put(out, e.information(r, c));
+		out << '\n';
+	}
+	for (G2oId id : g.fixed) out << kFix << ' ' << id << '\n';
+}
+}  // namespace swba::io
