@@ -89,12 +89,13 @@ struct WorstErrors
 	}
 };
 
-/** Analytic vs central-difference Jacobians (relative 1e-6, the project's bound). */
+/** Analytic vs central-difference Jacobians (relative 1e-6, the project's bound); `h` is the
+ * central-difference step in the tangent space. */
 inline void expect_jacobians_match(const Factor& factor, const std::vector<const double*>& x,
 								   const std::vector<const Manifold*>& manifolds, const std::string& name,
-								   const std::string& config)
+								   const std::string& config, double h = 1e-6)
 {
-	const JacobianComparison cmp = compare_jacobians(factor, x, manifolds);
+	const JacobianComparison cmp = compare_jacobians(factor, x, manifolds, h);
 	const double err = cmp.max_relative_error();
 	WorstErrors::record(name, err);
 	EXPECT_LE(err, 1e-6) << name << " at configuration '" << config << "'";
