@@ -20,8 +20,8 @@ int run_trajectory_metric_command(bool relative, int argc, char** argv)
 		  "evo_ape does (same association, alignment, error definitions, statistics and layout).";
 	TCLAP::CmdLine cmd(what, ' ', "0.1.0");
 	TCLAP::UnlabeledValueArg<std::string> ref_arg("REF", "reference trajectory file (TUM: t x y z qx qy qz qw)", true, "",
-												  "REF", cmd);
-	TCLAP::UnlabeledValueArg<std::string> est_arg("EST", "estimated trajectory file (TUM)", true, "", "EST", cmd);
+												  "REF");
+	TCLAP::UnlabeledValueArg<std::string> est_arg("EST", "estimated trajectory file (TUM)", true, "", "EST");
 	std::vector<std::string> relations = {"trans", "full", "rot", "angle_deg", "angle_rad"};
 	TCLAP::ValuesConstraint<std::string> relation_values(relations);
 	TCLAP::ValueArg<std::string> relation_arg(
@@ -29,45 +29,55 @@ int run_trajectory_metric_command(bool relative, int argc, char** argv)
 		"pose relation measured: trans = translation part (m), full = full transformation ||E - I||_F "
 		"(unit-less), rot = rotation part ||R(E) - I||_F (unit-less), angle_deg / angle_rad = rotation angle "
 		"of E. (Default: trans)",
-		false, "trans", &relation_values, cmd);
+		false, "trans", &relation_values);
 	TCLAP::SwitchArg align_arg("a", "align", "align the estimate to the reference with Umeyama's method: SE(3), "
-									 "or Sim(3) together with -s",
-							   cmd);
+									 "or Sim(3) together with -s");
 	TCLAP::SwitchArg scale_arg("s", "correct-scale",
-							   "correct the scale (Umeyama Sim(3) scale); alone: scale only, no rotation/translation",
-							   cmd);
+							   "correct the scale (Umeyama Sim(3) scale); alone: scale only, no rotation/translation");
 	TCLAP::SwitchArg origin_arg("", "align-origin",
-								"align the first estimated pose to the first reference pose (after -a/-s if given)", cmd);
+								"align the first estimated pose to the first reference pose (after -a/-s if given)");
 	TCLAP::ValueArg<double> max_diff_arg("", "t-max-diff",
 										 "largest time difference (s) for associating poses by stamp. (Default: 0.01)",
-										 false, 0.01, "S", cmd);
+										 false, 0.01, "S");
 	TCLAP::ValueArg<double> offset_arg("", "t-offset", "time offset (s) added to the estimate's stamps. (Default: 0)",
-									   false, 0.0, "S", cmd);
+									   false, 0.0, "S");
 	std::vector<std::string> formats = {"tum", "mrpt-gt"};
 	TCLAP::ValuesConstraint<std::string> format_values(formats);
 	TCLAP::ValueArg<std::string> ref_format_arg(
 		"", "ref-format",
 		"format of REF: tum, or mrpt-gt = MRPT ground-truth robot path (x y z yaw pitch roll per row, row i at "
 		"t = i). (Default: tum)",
-		false, "tum", &format_values, cmd);
+		false, "tum", &format_values);
 	TCLAP::ValueArg<std::string> save_arg(
 		"", "save-results",
 		"write <m>_stats.json, <m>_stats.csv, <m>_errors.csv (per pose), <m>_result.json and <m>_est_aligned.tum "
 		"into DIR (m = ape or rpe; DIR is created)",
-		false, "", "DIR", cmd);
+		false, "", "DIR");
 	TCLAP::ValueArg<std::string> plot_arg(
 		"", "plot",
 		"write plots into DIR: <m>_trajectories (top view) and <m>_errors (error over time), as .png and .svg "
 		"when gnuplot is on PATH (else a one-line note), plus their .dat/.gp sources",
-		false, "", "DIR", cmd);
+		false, "", "DIR");
 	TCLAP::ValueArg<int> delta_arg("", "delta", "RPE: frames between the two poses of a pair. (Default: 1)", false, 1,
 								   "N");
 	TCLAP::SwitchArg all_pairs_arg("", "all-pairs", "RPE: use every pair (i, i+delta), not only consecutive ones");
+	// Positional arguments in their order; TCLAP lists the others in the reverse order of addition.
+	cmd.add(ref_arg);
+	cmd.add(est_arg);
+	cmd.add(plot_arg);
+	cmd.add(save_arg);
+	cmd.add(ref_format_arg);
 	if (relative)
 	{
-		cmd.add(delta_arg);
 		cmd.add(all_pairs_arg);
+		cmd.add(delta_arg);
 	}
+	cmd.add(offset_arg);
+	cmd.add(max_diff_arg);
+	cmd.add(origin_arg);
+	cmd.add(scale_arg);
+	cmd.add(align_arg);
+	cmd.add(relation_arg);
 	if (auto rc = parse_command_line(cmd, argc, argv)) return *rc;
 
 	if (!std::isfinite(max_diff_arg.getValue()) || max_diff_arg.getValue() < 0)

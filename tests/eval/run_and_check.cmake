@@ -1,5 +1,5 @@
 # Runs one swba command and checks its exit code and output (used by tests.cmake).
-#   -DCMD="<swba>;arg;arg..."    the command (a CMake list)
+#   -DCMD="<swba>|arg|arg..."    the command, arguments separated by "|"
 #   -DEXPECT_RC=<n>              required exit code (a crash never matches a number)
 #   -DREGEX=<regex>              must match stdout+stderr (optional)
 #   -DJSON_FILE=<path> -DJSON_KEY=<key> -DEXPECTED=<decimal> -DREL_TOL_INV=<n>
@@ -9,6 +9,7 @@
 if(CLEAN_DIR)
   file(REMOVE_RECURSE "${CLEAN_DIR}")
 endif()
+string(REPLACE "|" ";" CMD "${CMD}")
 execute_process(COMMAND ${CMD} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 set(all "${out}${err}")
 if(NOT "${rc}" STREQUAL "${EXPECT_RC}")

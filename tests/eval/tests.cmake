@@ -9,10 +9,10 @@ set(_out ${CMAKE_CURRENT_BINARY_DIR}/eval_e2e)
 # evo's printed block (6 decimals, as evo prints them) and the saved JSON to 1e-9 relative.
 function(swba_eval_evo_case name ref expected_rmse printed_rmse)
   set(args ${ARGN})
-  string(REPLACE ";" "\\;" _cmd "$<TARGET_FILE:swba>;ape;${ref};${_ekf};${args}")
+  string(REPLACE ";" "|" _cmd "$<TARGET_FILE:swba>;ape;${ref};${_ekf};${args}")
   add_test(NAME eval.e2e.${name}_printed
     COMMAND ${CMAKE_COMMAND} "-DCMD=${_cmd}" -DEXPECT_RC=0 "-DREGEX=\n      rmse\t${printed_rmse}\n" -P ${_check})
-  string(REPLACE ";" "\\;" _cmd_save "$<TARGET_FILE:swba>;ape;${ref};${_ekf};${args};--save-results;${_out}/${name}")
+  string(REPLACE ";" "|" _cmd_save "$<TARGET_FILE:swba>;ape;${ref};${_ekf};${args};--save-results;${_out}/${name}")
   add_test(NAME eval.e2e.${name}_rmse_1e-9
     COMMAND ${CMAKE_COMMAND} "-DCMD=${_cmd_save}" -DEXPECT_RC=0 -DCLEAN_DIR=${_out}/${name}
             -DJSON_FILE=${_out}/${name}/ape_stats.json -DJSON_KEY=rmse -DEXPECTED=${expected_rmse}
@@ -58,7 +58,7 @@ set_tests_properties(eval.e2e.ape_plot_without_gnuplot PROPERTIES PASS_REGULAR_E
 
 # Malformed inputs: exit 1 with "<file>:<line>: <reason>"; empty / one-pose files never crash.
 function(swba_eval_bad name regex)
-  string(REPLACE ";" "\\;" _cmd "$<TARGET_FILE:swba>;${ARGN}")
+  string(REPLACE ";" "|" _cmd "$<TARGET_FILE:swba>;${ARGN}")
   add_test(NAME eval.e2e.${name} COMMAND ${CMAKE_COMMAND} "-DCMD=${_cmd}" -DEXPECT_RC=1 "-DREGEX=${regex}" -P ${_check})
 endfunction()
 swba_eval_bad(bad_columns "bad_columns.tum:4: expected 8 columns" ape ${_gt} ${_data}/bad_columns.tum)

@@ -60,6 +60,14 @@ std::string num(double v)
 	std::snprintf(buf, sizeof(buf), "%.10g", v);
 	return buf;
 }
+
+/** A value for a legend: 6 significant digits. */
+std::string label_num(double v)
+{
+	char buf[40];
+	std::snprintf(buf, sizeof(buf), "%.6g", v);
+	return buf;
+}
 }  // namespace
 
 PlotOutput plot_lines(const std::string& dir, const std::string& basename, const LinePlot& plot,
@@ -98,7 +106,10 @@ PlotOutput plot_lines(const std::string& dir, const std::string& basename, const
 		f << "set xlabel " << gp_string(plot.xlabel) << " noenhanced\n";
 		f << "set ylabel " << gp_string(plot.ylabel) << " noenhanced\n";
 		f << "set grid\nset key box opaque noenhanced\n";
-		if (plot.equal_axes) f << "set size ratio -1\n";
+		if (plot.equal_axes)
+			f << "set size ratio -1\n";
+		else
+			f << "set offsets 0, 0, graph 0.05, graph 0.05\n";  // keep reference lines off the frame
 		std::ostringstream cmd;
 		cmd << "plot ";
 		bool first = true;
@@ -112,7 +123,7 @@ PlotOutput plot_lines(const std::string& dir, const std::string& basename, const
 		for (const auto& ref : plot.references)
 		{
 			cmd << (first ? "" : ", \\\n     ") << num(ref.value) << " with lines dt 2 lw 2 title "
-				<< gp_string(ref.label + " (" + num(ref.value) + ")");
+				<< gp_string(ref.label + " (" + label_num(ref.value) + ")");
 			first = false;
 		}
 		if (first) cmd << "NaN notitle";
