@@ -1,0 +1,45 @@
+// Solvers compared by the BAL benchmark: each runs one solve from a BAL problem's initial values and
+// returns the same figures, so that the table compares like with like.
+#pragma once
+
+#include <swba/io/bal.h>
+
+#include <string>
+#include <vector>
+
+namespace swba::bench
+{
+/** The settings every peer gets. */
+struct PeerSettings
+{
+	int num_threads = 2;
+	int max_iterations = 50;
+	double function_tolerance = 1e-6;
+	double gradient_tolerance = 1e-10;
+	double parameter_tolerance = 1e-8;
+	bool dense = false;        ///< DENSE_SCHUR instead of SPARSE_SCHUR
+	double stop_at_cost = -1;  ///< stop once cost ≤ this (ours only; Ceres's log is used instead)
+};
+
+struct PeerIteration
+{
+	int iteration = 0;
+	double cost = 0;
+	double cumulative_time_s = 0;
+};
+
+struct PeerResult
+{
+	std::string termination;
+	double initial_cost = -1;
+	double final_cost = -1;
+	int iterations = 0;        ///< LM iterations (accepted + rejected), without Ceres's iteration 0
+	double solve_time_s = 0;   ///< wall time of the solve call (problem already built)
+	std::vector<PeerIteration> log;
+};
+
+PeerResult solve_swba(const io::BalProblem& bal, const PeerSettings& s);
+#ifdef SWBA_HAVE_CERES
+PeerResult solve_ceres(const io::BalProblem& bal, const PeerSettings& s);
+#endif
+}  // namespace swba::bench

@@ -1,0 +1,325 @@
+// swba_bench_bal: swba's Levenberg-Marquardt vs Ceres 2.1 on BAL problems, in one run, with the same
+// thread count, tolerances and initial values. Every solve runs in its own forked process so that
+// its peak RSS (getrusage) is its own and no run warms the caches of the next.
+//
+// For each problem: Ceres SPARSE_SCHUR and DENSE_SCHUR, swba sparse-schur and dense-schur, each run
+// to the iteration limit; the target cost is Ceres SPARSE_SCHUR's final cost × (1 + rel_tol); swba's
+// time to the target is measured by a separate run with SolverOptions::stop_at_cost = target, Ceres's
+// from its iteration log (cumulative time at the first iteration whose cost is ≤ target).
+// Times are medians over --repeat repetitions, the configurations interleaved.
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bal_peers.h"
+
+namespace
+{
+using swba::bench::PeerResult;
+using swba::bench::PeerSettings;
+
+struct Config
+{
+	std::string name;
+	bool ceres = false;
+	bool dense = false;
+	bool to_target = false;  ///< swba run stopped at the target cost
+};
+
+struct RunResult
+{
+	PeerResult peer;
+	long peak_rss_kb = 0;
+	long rss_before_solve_kb = 0;
+};
+
+long current_rss_kb()
+{
+	std::ifstream f("/proc/self/statm");
+	long pages_total = 0, pages_resident = 0;
+	f >> pages_total >> pages_resident;
+	return pages_resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+// Runs one solve in a child process; the child reads the problem itself.
+RunResult run_in_child(const std::string& path, const Config& c, const PeerSettings& settings)
+{
+	int fds[2];
+	if (pipe(fds) != 0) throw std::runtime_error("pipe failed");
+	const pid_t pid = fork();
+	if (pid < 0) throw std::runtime_error("fork failed");
+	if (pid == 0)
+	{
+		close(fds[0]);
+		std::ostringstream out;
+		out.precision(17);
+		try
+		{
+			const auto bal = swba::io::read_bal(path);
+			PeerSettings s = settings;
+			s.dense = c.dense;
+			const long rss_before = current_rss_kb();
+			PeerResult r;
+#ifdef SWBA_HAVE_CERES
+			r = c.ceres ? swba::bench::solve_ceres(bal, s) : swba::bench::solve_swba(bal, s);
+#else
+			r = swba::bench::solve_swba(bal, s);
+#endif
+			rusage ru{};
+			getrusage(RUSAGE_SELF, &ru);
+			out << "ok 1\nrss " << ru.ru_maxrss << "\nrss_before " << rss_before << "\ninitial " << r.initial_cost
+				<< "\nfinal " << r.final_cost << "\niterations " << r.iterations << "\ntime " << r.solve_time_s << "\n";
+			for (const auto& it : r.log) out << "iter " << it.iteration << " " << it.cost << " " << it.cumulative_time_s << "\n";
+			out << "termination " << r.termination << "\n";
+		}
+		catch (const std::exception& e)
+		{
+			out << "error " << e.what() << "\n";
+		}
+		const std::string msg = out.str();
+		size_t done = 0;
+		while (done < msg.size())
+		{
+			const ssize_t w = write(fds[1], msg.data() + done, msg.size() - done);
+			if (w <= 0) break;
+			done += static_cast<size_t>(w);
+		}
+		close(fds[1]);
+		_exit(0);
+	}
+	close(fds[1]);
+	std::string text;
+	char buf[4096];
+	ssize_t n;
+	while ((n = read(fds[0], buf, sizeof(buf))) > 0) text.append(buf, static_cast<size_t>(n));
+	close(fds[0]);
+	int status = 0;
+	waitpid(pid, &status, 0);
+	if (!WIFEXITED(status)) throw std::runtime_error(c.name + ": child process crashed");
+
+	RunResult rr;
+	std::istringstream in(text);
+	std::string key;
+	bool ok = false;
+	while (in >> key)
+	{
+		if (key == "error")
+		{
+			std::string rest;
+			std::getline(in, rest);
+			throw std::runtime_error(c.name + ":" + rest);
+		}
+		if (key == "ok") in >> ok;
+		else if (key == "rss") in >> rr.peak_rss_kb;
+		else if (key == "rss_before") in >> rr.rss_before_solve_kb;
+		else if (key == "initial") in >> rr.peer.initial_cost;
+		else if (key == "final") in >> rr.peer.final_cost;
+		else if (key == "iterations") in >> rr.peer.iterations;
+		else if (key == "time") in >> rr.peer.solve_time_s;
+		else if (key == "iter")
+		{
+			swba::bench::PeerIteration it;
+			in >> it.iteration >> it.cost >> it.cumulative_time_s;
+			rr.peer.log.push_back(it);
+		}
+		else if (key == "termination")
+		{
+			std::getline(in, rr.peer.termination);
+			if (!rr.peer.termination.empty() && rr.peer.termination[0] == ' ') rr.peer.termination.erase(0, 1);
+		}
+	}
+	if (!ok) throw std::runtime_error(c.name + ": no result from the child process");
+	return rr;
+}
+
+/** Cumulative time at the first logged iteration with cost ≤ target; -1 if never. */
+double time_to_target_from_log(const PeerResult& r, double target)
+{
+	for (const auto& it : r.log)
+		if (it.cost <= target) return it.cumulative_time_s;
+	return -1;
+}
+
+double median(std::vector<double> v)
+{
+	v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return x < 0; }), v.end());
+	if (v.empty()) return -1;
+	std::sort(v.begin(), v.end());
+	const size_t m = v.size() / 2;
+	return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+std::string fmt(const char* f, double v)
+{
+	char buf[64];
+	std::snprintf(buf, sizeof(buf), f, v);
+	return buf;
+}
+
+int run(int argc, char** argv)
+{
+	TCLAP::CmdLine cmd(
+		"BAL benchmark: swba vs Ceres 2.1 (SPARSE_SCHUR, DENSE_SCHUR) on the same problems, threads and tolerances.",
+		' ', "0.1.0");
+	TCLAP::UnlabeledMultiArg<std::string> problems("problems", "BAL files (default: share/data/bal/problem-49-7776-pre.txt)",
+												   false, "FILE", cmd);
+	TCLAP::ValueArg<int> threads("", "threads", "threads for every solver (default 2)", false, 2, "N", cmd);
+	TCLAP::ValueArg<int> repeat("", "repeat", "repetitions; times are medians (default 3)", false, 3, "R", cmd);
+	TCLAP::ValueArg<int> max_iter("", "max-iterations", "LM iteration limit (default 50, Ceres's default)", false, 50, "K", cmd);
+	TCLAP::ValueArg<double> ftol("", "function-tolerance",
+								 "relative cost change tolerance (default 1e-15: run to the iteration limit)", false, 1e-15, "TOL", cmd);
+	TCLAP::ValueArg<double> gtol("", "gradient-tolerance", "default 1e-15", false, 1e-15, "TOL", cmd);
+	TCLAP::ValueArg<double> ptol("", "parameter-tolerance", "default 1e-15", false, 1e-15, "TOL", cmd);
+	TCLAP::ValueArg<double> rtol("", "target-tolerance",
+								 "target = Ceres SPARSE_SCHUR final cost × (1 + this) (default 1e-6)", false, 1e-6, "REL", cmd);
+	TCLAP::SwitchArg no_dense("", "no-dense", "skip the DENSE_SCHUR / dense-schur runs", cmd);
+	try
+	{
+		if (!cmd.parse(argc, argv)) return 0;
+	}
+	catch (const TCLAP::ArgException& e)
+	{
+		std::cerr << "swba_bench_bal: " << e.error() << " (" << e.argId() << ")\n";
+		return 2;
+	}
+	std::vector<std::string> files = problems.getValue();
+	if (files.empty()) files.push_back(std::string(SWBA_DATA_DIR) + "/bal/problem-49-7776-pre.txt");
+
+	PeerSettings settings;
+	settings.num_threads = threads.getValue();
+	settings.max_iterations = max_iter.getValue();
+	settings.function_tolerance = ftol.getValue();
+	settings.gradient_tolerance = gtol.getValue();
+	settings.parameter_tolerance = ptol.getValue();
+
+	std::vector<Config> configs;
+#ifdef SWBA_HAVE_CERES
+	configs.push_back({"Ceres SPARSE_SCHUR", true, false, false});
+	if (!no_dense.getValue()) configs.push_back({"Ceres DENSE_SCHUR", true, true, false});
+#else
+	std::cout << "(built without Ceres: swba runs only, no target cost)\n";
+#endif
+	configs.push_back({"swba sparse-schur", false, false, false});
+	if (!no_dense.getValue()) configs.push_back({"swba dense-schur", false, true, false});
+
+	for (const auto& path : files)
+	{
+		const auto bal = swba::io::read_bal(path);
+		std::cout << "# " << path << ": " << bal.num_cameras << " cameras, " << bal.num_points << " points, "
+				  << bal.observations.size() << " observations; threads " << settings.num_threads << ", max "
+				  << settings.max_iterations << " iterations, tolerances f " << settings.function_tolerance << " g "
+				  << settings.gradient_tolerance << " p " << settings.parameter_tolerance << ", " << repeat.getValue()
+				  << " repetitions\n";
+		const size_t nc = configs.size();
+		std::vector<std::vector<RunResult>> full(nc), to_target(nc);
+		double target = -1;
+		for (int rep = 0; rep < repeat.getValue(); rep++)
+		{
+			for (size_t c = 0; c < nc; c++)
+			{
+				full[c].push_back(run_in_child(path, configs[c], settings));
+				if (configs[c].ceres && !configs[c].dense && target < 0)
+					target = full[c].back().peer.final_cost * (1.0 + rtol.getValue());
+			}
+			for (size_t c = 0; c < nc; c++)
+			{
+				if (configs[c].ceres || target < 0) continue;
+				PeerSettings s = settings;
+				s.stop_at_cost = target;
+				to_target[c].push_back(run_in_child(path, configs[c], s));
+			}
+		}
+		// Times to target: Ceres from its log, swba from the stop_at_cost runs.
+		std::vector<double> t_full(nc), t_target(nc), rss(nc);
+		for (size_t c = 0; c < nc; c++)
+		{
+			std::vector<double> tf, tt;
+			long peak = 0;
+			for (const auto& r : full[c])
+			{
+				tf.push_back(r.peer.solve_time_s);
+				if (configs[c].ceres) tt.push_back(time_to_target_from_log(r.peer, target));
+				peak = std::max(peak, r.peak_rss_kb);
+			}
+			for (const auto& r : to_target[c])
+				tt.push_back(r.peer.final_cost <= target ? r.peer.solve_time_s : -1);
+			t_full[c] = median(tf);
+			t_target[c] = median(tt);
+			rss[c] = peak / 1024.0;
+		}
+		double ceres_sparse_t = -1, ceres_best_t = -1;
+		for (size_t c = 0; c < nc; c++)
+			if (configs[c].ceres && t_target[c] > 0)
+			{
+				if (!configs[c].dense) ceres_sparse_t = t_target[c];
+				if (ceres_best_t < 0 || t_target[c] < ceres_best_t) ceres_best_t = t_target[c];
+			}
+
+		std::cout << "target cost (Ceres SPARSE_SCHUR final × (1+" << rtol.getValue() << ")): " << fmt("%.6f", target)
+				  << "\n\n";
+		std::cout << "| solver | initial cost | final cost | iterations | time [s] | time to target [s] | ratio vs Ceres "
+					 "SPARSE_SCHUR | ratio vs fastest Ceres | peak RSS [MiB] |\n";
+		std::cout << "|---|---|---|---|---|---|---|---|---|\n";
+		for (size_t c = 0; c < nc; c++)
+		{
+			const auto& r0 = full[c].front().peer;
+			const double tt = t_target[c];
+			std::cout << "| " << configs[c].name << " | " << fmt("%.6e", r0.initial_cost) << " | "
+					  << fmt("%.6f", r0.final_cost) << " | " << r0.iterations << " | " << fmt("%.3f", t_full[c]) << " | "
+					  << (tt > 0 ? fmt("%.3f", tt) : std::string("not reached")) << " | "
+					  << (tt > 0 && ceres_sparse_t > 0 ? fmt("%.2f", tt / ceres_sparse_t) : std::string("-")) << " | "
+					  << (tt > 0 && ceres_best_t > 0 ? fmt("%.2f", tt / ceres_best_t) : std::string("-")) << " | "
+					  << fmt("%.1f", rss[c]) << " |\n";
+		}
+		std::cout << "\nper-run times [s] (full runs; swba to-target runs in brackets):\n";
+		for (size_t c = 0; c < nc; c++)
+		{
+			std::cout << "  " << configs[c].name << ":";
+			for (const auto& r : full[c]) std::cout << " " << fmt("%.3f", r.peer.solve_time_s);
+			if (!to_target[c].empty())
+			{
+				std::cout << " [";
+				for (const auto& r : to_target[c])
+					std::cout << " " << fmt("%.3f", r.peer.solve_time_s) << "@" << r.peer.iterations << "it";
+				std::cout << " ]";
+			}
+			std::cout << "  (" << full[c].front().peer.termination << ")\n";
+		}
+		for (size_t c = 0; c < nc; c++)
+			if (configs[c].ceres)
+				for (const auto& it : full[c].front().peer.log)
+					if (it.cost <= target)
+					{
+						std::cout << "  " << configs[c].name << " reaches the target at iteration " << it.iteration << "\n";
+						break;
+					}
+		std::cout << "\n";
+	}
+	return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+	try
+	{
+		return run(argc, argv);
+	}
+	catch (const std::exception& e)
+	{
+		std::cerr << "swba_bench_bal: error: " << e.what() << "\n";
+		return 1;
+	}
+}
