@@ -69,6 +69,7 @@ swba_eval_bad(decreasing_time "decreasing_time.tum:3: time stamp 1 is before" ap
 swba_eval_bad(non_finite "non_finite.tum:2: column 2 \\(x\\) is not finite" ape ${_gt} ${_data}/non_finite.tum)
 swba_eval_bad(not_a_number "not_a_number.tum:3: column 2 \\(x\\) is not a number" ape ${_gt} ${_data}/not_a_number.tum)
 swba_eval_bad(bad_mrpt_gt "bad_mrpt_gt.txt:3: expected 6 columns" ape ${_data}/bad_mrpt_gt.txt ${_ekf} --ref-format mrpt-gt)
+swba_eval_bad(directory_as_file "data: is a directory" ape ${_gt} ${_data})
 swba_eval_bad(missing_file "does_not_exist.tum: cannot open" ape ${_gt} ${_data}/does_not_exist.tum)
 swba_eval_bad(empty_file "empty.tum: no poses" ape ${_gt} ${_data}/empty.tum)
 swba_eval_bad(comments_only_file "comments_only.tum: no poses" ape ${_data}/comments_only.tum ${_ekf})

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -87,6 +88,16 @@ std::vector<double> parse_row(const std::string& line, const std::vector<const c
 	return v;
 }
 
+/** Opens `path` for reading or throws TrajectoryFileError naming it. */
+std::ifstream open_input(const std::string& path)
+{
+	std::error_code ec;
+	if (std::filesystem::is_directory(path, ec)) throw TrajectoryFileError(path, 0, "is a directory, not a file");
+	std::ifstream f(path);
+	if (!f) throw TrajectoryFileError(path, 0, "cannot open file");
+	return f;
+}
+
 std::string fmt_g(double v)
 {
 	char buf[64];
@@ -128,8 +139,7 @@ Trajectory read_tum(std::istream& in, const std::string& source, const TumReadOp
 
 Trajectory read_tum(const std::string& path, const TumReadOptions& options)
 {
-	std::ifstream f(path);
-	if (!f) throw TrajectoryFileError(path, 0, "cannot open file");
+	std::ifstream f = open_input(path);
 	return read_tum(f, path, options);
 }
 
@@ -178,8 +188,7 @@ Trajectory read_mrpt_ground_truth(std::istream& in, const std::string& source)
 
 Trajectory read_mrpt_ground_truth(const std::string& path)
 {
-	std::ifstream f(path);
-	if (!f) throw TrajectoryFileError(path, 0, "cannot open file");
+	std::ifstream f = open_input(path);
 	return read_mrpt_ground_truth(f, path);
 }
 }  // namespace swba::eval
