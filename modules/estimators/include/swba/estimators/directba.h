@@ -1,0 +1,99 @@
+/** \file directba.h
+ * Direct (photometric) bundle adjustment over a swba::io::DirectBADataset: one
+ * PhotometricPatchFactor per (point, camera) pair, points eliminated by Schur (Group::Eliminable),
+ * the first `fixed_cameras` poses held constant (gauge), solved by swba::solve.
+ * Also the synthetic check: the same adjustment on io::make_synthetic_directba() with errors
+ * against ground truth. See doc/directba.md. */
+#pragma once
+
+#include <swba/io/directba_dataset.h>
+#include <swba/io/directba_synthetic.h>
+#include <swba/nonlinear/solver.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace swba::estimators
+{
+struct DirectBAOptions
+{
+	/** LM options; progress_to_stdout prints the iteration table. Default max_iterations 50. */
+	SolverOptions solver;
+	/** Photometric noise σ in gray levels: residuals are whitened by 1/σ. Default 10. */
+	double sigma = 10.0;
+	/** Huber threshold in whitened units (applied to ‖r/σ‖); ≤ 0 disables the robust kernel.
+	 * Default √χ²₁₆(0.95) = √26.296 ≈ 5.128, i.e. a patch residual norm of 5.128·σ. */
+	double huber_delta = std::sqrt(kChi2Patch95);
+	/** The first `fixed_cameras` poses are constant (gauge). Default 1. */
+	int fixed_cameras = 1;
+	/** Factor options (image border margin, minimum depth). */
+	PhotometricPatchFactor::Options factor;
+
+	bool is_valid(std::string* why) const;
+};
+
+/** Photometric statistics at one set of values. */
+struct DirectBAStats
+{
+	double cost = 0;        ///< ½Σρ(‖r/σ‖²) over the evaluable factors (as the solver's cost)
+	int evaluated = 0;      ///< factors with a defined residual
+	int dropped = 0;        ///< factors whose patch left the image or whose point was behind
+	double pixel_rms = 0;   ///< √(Σ r_k² / (16·evaluated)), gray levels, no robust kernel
+	double pixel_median_abs = 0;  ///< median |r_k| over all evaluated samples, gray levels
+};
+
+/** How far the adjustment moved the variables (final vs initial). */
+struct DirectBAMotion
+{
+	double pose_translation_max = 0, pose_translation_rms = 0;  ///< camera centres (data units)
+	double pose_rotation_max_deg = 0, pose_rotation_rms_deg = 0;
+	double point_mean = 0, point_median = 0, point_max = 0;     ///< point displacements
+};
+
+struct DirectBAResult
+{
+	Summary summary;
+	DirectBAStats before, after;
+	DirectBAMotion motion;
+	int num_factors = 0;
+	std::vector<mrpt::poses::CPose3D> poses;  ///< optimised world-from-camera poses
+	std::vector<Eigen::Vector3d> points;      ///< optimised points
+};
+
+/** Builds and solves the problem. Throws std::invalid_argument on invalid options or a data set
+ * whose images do not match its poses. */
+DirectBAResult run_direct_ba(const io::DirectBADataset& data, const DirectBAOptions& options);
+
+/** Statistics of the photometric factors at the given values (used before/after the solve). */
+DirectBAStats direct_ba_stats(const io::DirectBADataset& data, const std::vector<mrpt::poses::CPose3D>& poses,
+							  const std::vector<Eigen::Vector3d>& points, const DirectBAOptions& options);
+
+/** Errors of poses/points against ground truth. */
+struct GroundTruthErrors
+{
+	double pose_translation_max_m = 0, pose_rotation_max_deg = 0;
+	double point_rms_m = 0, point_max_m = 0;
+	/** Displacement of the projections (all in-image point×camera pairs) vs ground truth, pixels. */
+	double reprojection_mean_px = 0, reprojection_max_px = 0;
+};
+GroundTruthErrors ground_truth_errors(const io::DirectBADataset& truth,
+									  const std::vector<mrpt::poses::CPose3D>& poses,
+									  const std::vector<Eigen::Vector3d>& points);
+
+struct SyntheticDirectBAResult
+{
+	DirectBAResult result;
+	GroundTruthErrors initial_errors, final_errors;
+	int num_points = 0, num_cameras = 0;
+};
+
+/** Renders the synthetic room, perturbs it and runs run_direct_ba(); the options' fixed_cameras is
+ * set to the scene's (cameras left at ground truth). */
+SyntheticDirectBAResult run_synthetic_direct_ba(const io::SyntheticDirectBAOptions& scene,
+												DirectBAOptions options);
+
+/** Human-readable report lines (cost, RMS, dropped, motion). */
+std::string format_direct_ba_report(const DirectBAResult& r);
+std::string format_ground_truth_errors(const GroundTruthErrors& before, const GroundTruthErrors& after);
+}  // namespace swba::estimators
