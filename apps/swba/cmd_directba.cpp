@@ -96,6 +96,7 @@ int run_directba(int argc, char** argv)
 	if (dir.getValue().empty()) throw swba::app::UsageError("missing DIR (or use --synthetic)");
 	opt.fixed_cameras = fixed_cameras.isSet() ? fixed_cameras.getValue() : 1;
 	const auto data = swba::io::read_directba_dataset(dir.getValue());
+	if (!out_dir.getValue().empty()) std::filesystem::create_directories(out_dir.getValue());
 	std::cout << "Direct BA " << dir.getValue() << ": " << data.world_from_camera.size() << " cameras, "
 			  << data.points.size() << " points, images " << data.images[0]->width << "x" << data.images[0]->height
 			  << "; sigma " << opt.sigma << ", Huber " << opt.huber_delta << " (whitened), " << opt.fixed_cameras
@@ -116,7 +117,6 @@ int run_directba(int argc, char** argv)
 	if (!out_dir.getValue().empty())
 	{
 		const std::filesystem::path out(out_dir.getValue());
-		std::filesystem::create_directories(out);
 		// The file's timestamps are all equal (1.46323e+09): TUM time = image index instead.
 		std::vector<double> t;
 		for (size_t i = 0; i < res.poses.size(); i++) t.push_back(double(i));
