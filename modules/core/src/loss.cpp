@@ -72,7 +72,7 @@ double apply_loss(const LossFunction& loss, int m, double* r, int num_blocks, co
 		residual_scaling = sqrt_rho1 / (1.0 - alpha);
 		alpha_sq_norm = alpha / s;
 	}
-	for (int b = 0; b < num_blocks; b++)
+	for (int b = 0; jacobians && b < num_blocks; b++)
 	{
 		double* J = jacobians[b];
 		if (!J) continue;

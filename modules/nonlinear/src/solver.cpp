@@ -128,6 +128,22 @@ double seconds_since(Clock::time_point t0)
 }
 }  // namespace
 
+/** Schur elimination pays when eliminated variables have few observations each (BAL: ~4 per point);
+ * with long feature tracks (SLAM: hundreds of poses per landmark) the reduced system fills in
+ * (Σ n_l² blocks) and the full sparse normal equations are cheaper. */
+static bool schur_pays_off(const Problem& problem)
+{
+	double terms = 0, blocks = 0;
+	for (const auto& [id, v] : problem.variables())
+	{
+		if (v.constant || v.group != Group::Eliminable) continue;
+		const double n = static_cast<double>(v.factors.size());
+		terms += n * (n + 1) / 2;
+		blocks += n;
+	}
+	return terms <= 8.0 * std::max(1.0, blocks);
+}
+
 Summary solve(Problem& problem, const SolverOptions& options)
 {
 	std::string why;
@@ -148,7 +164,7 @@ Summary solve(Problem& problem, const SolverOptions& options)
 		case LinearSolverType::SparseSchur: use_schur = sparse = true; break;
 		case LinearSolverType::DenseNormal: break;
 		case LinearSolverType::SparseNormal: sparse = true; break;
-		case LinearSolverType::Auto: use_schur = has_elim; break;
+		case LinearSolverType::Auto: use_schur = has_elim && schur_pays_off(problem); break;
 	}
 	if (options.linear_solver == LinearSolverType::Auto)
 	{

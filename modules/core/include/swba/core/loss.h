@@ -43,7 +43,8 @@ std::shared_ptr<const LossFunction> make_loss(const std::string& name, double a)
 
 /** Applies a loss to a whitened residual r (dim m) and its Jacobian blocks as Ceres's Corrector does,
  * so that ½‖r̃‖² and J̃ᵀJ̃ give the robustified cost's gradient and Gauss-Newton Hessian.
- * `jac_cols[i]` columns for block i (row-major m × jac_cols[i]); null blocks are skipped.
+ * `jac_cols[i]` columns for block i (row-major m × jac_cols[i]); `jacobians` may be null (residual
+ * only) and null blocks are skipped.
  * Returns ½ρ(‖r‖²). */
 double apply_loss(const LossFunction& loss, int m, double* r, int num_blocks, const int* jac_cols,
 				  double* const* jacobians);

@@ -13,7 +13,7 @@ namespace swba
 {
 enum class LinearSolverType
 {
-	Auto,          ///< Schur when the problem has eliminable variables; dense below dense_max_dim
+	Auto,          ///< Schur when eliminable variables have short tracks (≤ ~15 factors each); dense below dense_max_dim
 	DenseSchur,    ///< Schur complement, reduced system by dense LDLT
 	SparseSchur,   ///< Schur complement, reduced system by CHOLMOD
 	DenseNormal,   ///< no elimination, full normal equations by dense LDLT
