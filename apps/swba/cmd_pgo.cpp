@@ -38,6 +38,11 @@ int run_pgo(int argc, char** argv)
 										false, 1e-3, "SIGMA", cmd);
 	TCLAP::ValueArg<double> function_tolerance(
 		"", "function-tolerance", "stop when |dcost|/cost falls below (default 1e-6)", false, 1e-6, "TOL", cmd);
+	TCLAP::ValueArg<std::string> rotation_error(
+		"", "rotation-error",
+		"3D rotation error: g2o = 2 vec(q_ab^-1 q_a^-1 q_b), ceres = 2 vec(q_ab (q_a^-1 q_b)^-1) as Ceres's "
+		"pose_graph_3d example (default g2o)",
+		false, "g2o", "g2o|ceres", cmd);
 	TCLAP::SwitchArg quiet("q", "quiet", "do not print the per-iteration table", cmd);
 	if (auto rc = swba::app::parse_command_line(cmd, argc, argv)) return *rc;
 
@@ -47,6 +52,7 @@ int run_pgo(int argc, char** argv)
 	{
 		po.gauge = swba::io::parse_pose_graph_gauge(gauge.getValue());
 		po.prior_sigma = prior_sigma.getValue();
+		po.rotation_error = swba::io::parse_rotation_error(rotation_error.getValue());
 		if (!(po.prior_sigma > 0)) throw std::invalid_argument("--prior-sigma must be > 0");
 		if (!(robust_scale.getValue() > 0)) throw std::invalid_argument("--robust-scale must be > 0");
 		po.loss = swba::make_loss(robust.getValue(), robust_scale.getValue());
@@ -81,7 +87,7 @@ int run_pgo(int argc, char** argv)
 	std::cout << summary.full_report();
 	swba::io::update_pose_graph(graph, pp);
 	if (po.loss || pp.has_prior)
-		std::cout << "Edge cost without loss/prior: " << swba::io::pose_graph_cost(graph) << "\n";
+		std::cout << "Edge cost without loss/prior: " << swba::io::pose_graph_cost(graph, po.rotation_error) << "\n";
 	if (!summary.is_solution_usable())
 		throw std::runtime_error("optimisation failed: " + summary.message);
 	if (!output.getValue().empty())

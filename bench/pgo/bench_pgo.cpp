@@ -10,12 +10,15 @@
 #include <swba/nonlinear/solver.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <iostream>
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -43,6 +46,7 @@ struct Settings
 	int mrpt_max_iterations = 100;
 	bool run_ceres = true;
 	bool run_mrpt = true;
+	std::vector<swba::RotationError> models = {swba::RotationError::G2o, swba::RotationError::CeresExample};
 	std::vector<std::string> graphs;
 };
 
@@ -54,10 +58,13 @@ struct Result
 	int iterations = 0;
 	double setup_s = 0, solve_s = 0;
 	std::string note;
+	PoseGraph solution;  // the solver's output (for re-evaluation under another model)
 };
 
+const char* model_name(swba::RotationError m) { return m == swba::RotationError::G2o ? "g2o" : "ceres"; }
+
 // ---------------------------------------------------------------- swba
-Result run_swba(const PoseGraph& input, const Settings& s)
+Result run_swba(const PoseGraph& input, const Settings& s, swba::RotationError model)
 {
 	Result r;
 	r.solver = "swba";
@@ -65,7 +72,9 @@ Result run_swba(const PoseGraph& input, const Settings& s)
 	{
 		PoseGraph g = input;
 		auto t0 = Clock::now();
-		auto pp = swba::io::build_pose_graph_problem(g);
+		swba::io::PoseGraphProblemOptions po;
+		po.rotation_error = model;
+		auto pp = swba::io::build_pose_graph_problem(g, po);
 		const double setup = seconds_since(t0);
 		swba::SolverOptions o;
 		o.max_iterations = s.max_iterations;
@@ -79,20 +88,23 @@ Result run_swba(const PoseGraph& input, const Settings& s)
 			r.setup_s = setup;
 			r.solve_s = solve;
 		}
-		r.final_cost = swba::io::pose_graph_cost(g);
+		r.final_cost = swba::io::pose_graph_cost(g, model);
 		r.reported_cost = summary.final_cost;
 		r.iterations = summary.iterations;
 		r.note = summary.brief_report();
+		r.solution = g;
 	}
 	return r;
 }
 
 // ---------------------------------------------------------------- Ceres
 #ifdef SWBA_BENCH_HAVE_CERES
-/** Reference 3D model: r = Lᵀ·[R_aᵀ(t_b − t_a) − t_ab ; 2·vec(q_ab⁻¹·q_a⁻¹·q_b)], Λ = L·Lᵀ. */
+/** Reference 3D model: r = Lᵀ·[R_aᵀ(t_b − t_a) − t_ab ; 2·vec(δq)], Λ = L·Lᵀ, with
+ * δq = q_ab⁻¹·q_a⁻¹·q_b (g2o) or q_ab·(q_a⁻¹·q_b)⁻¹ (Ceres's pose_graph_3d example). */
 struct ReferencePose3dCost
 {
-	explicit ReferencePose3dCost(const swba::io::PoseGraphEdge3& e) : t_ab(e.t), q_ab_inv(e.q.conjugate())
+	ReferencePose3dCost(const swba::io::PoseGraphEdge3& e, swba::RotationError model)
+		: t_ab(e.t), q_ab(e.q), g2o(model == swba::RotationError::G2o)
 	{
 		W = e.information.llt().matrixL().transpose();
 	}
@@ -102,7 +114,9 @@ struct ReferencePose3dCost
 		const Eigen::Map<const Eigen::Matrix<T, 3, 1>> p_a(pa), p_b(pb);
 		const Eigen::Map<const Eigen::Quaternion<T>> q_a(qa), q_b(qb);
 		const Eigen::Quaternion<T> q_a_inv = q_a.conjugate();
-		const Eigen::Quaternion<T> dq = q_ab_inv.template cast<T>() * q_a_inv * q_b;
+		const Eigen::Quaternion<T> q_est = q_a_inv * q_b;
+		const Eigen::Quaternion<T> dq = g2o ? Eigen::Quaternion<T>(q_ab.conjugate().template cast<T>() * q_est)
+											: Eigen::Quaternion<T>(q_ab.template cast<T>() * q_est.conjugate());
 		Eigen::Map<Eigen::Matrix<T, 6, 1>> r(residual);
 		r.template head<3>() = q_a_inv * (p_b - p_a) - t_ab.template cast<T>();
 		r.template tail<3>() = T(2.0) * dq.vec();
@@ -110,7 +124,8 @@ struct ReferencePose3dCost
 		return true;
 	}
 	Eigen::Vector3d t_ab;
-	Eigen::Quaterniond q_ab_inv;
+	Eigen::Quaterniond q_ab;
+	bool g2o;
 	Eigen::Matrix<double, 6, 6> W;
 	EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
@@ -136,14 +151,15 @@ struct ReferencePose2dCost
 		const T dx = b[0] - a[0], dy = b[1] - a[1];
 		Eigen::Matrix<T, 3, 1> r(c * dx + s * dy - T(x), -s * dx + c * dy - T(y),
 								 normalize_angle(b[2] - a[2] - T(theta)));
-		Eigen::Map<Eigen::Matrix<T, 3, 1>>(residual) = W.template cast<T>() * r;
+		Eigen::Map<Eigen::Matrix<T, 3, 1>> out(residual);
+		out = W.template cast<T>() * r;
 		return true;
 	}
 	double x, y, theta;
 	Eigen::Matrix3d W;
 };
 
-Result run_ceres(const PoseGraph& input, const Settings& s)
+Result run_ceres(const PoseGraph& input, const Settings& s, swba::RotationError model)
 {
 	Result res;
 	res.solver = "ceres";
@@ -166,7 +182,7 @@ Result run_ceres(const PoseGraph& input, const Settings& s)
 			double* a = params.at(e.from).data();
 			double* b = params.at(e.to).data();
 			problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ReferencePose3dCost, 6, 3, 4, 3, 4>(
-										 new ReferencePose3dCost(e)),
+										 new ReferencePose3dCost(e, model)),
 									 nullptr, a, a + 3, b, b + 3);
 		}
 		for (const auto& e : g.edges2)
@@ -221,10 +237,11 @@ Result run_ceres(const PoseGraph& input, const Settings& s)
 			res.setup_s = setup;
 			res.solve_s = solve;
 		}
-		res.final_cost = swba::io::pose_graph_cost(g);
+		res.final_cost = swba::io::pose_graph_cost(g, model);
 		res.reported_cost = summary.final_cost;
 		res.iterations = static_cast<int>(summary.iterations.size()) - 1;  // iteration 0 is the start
 		res.note = summary.BriefReport();
+		res.solution = g;
 	}
 	return res;
 }
@@ -299,8 +316,9 @@ Result run_mrpt(const PoseGraph& input, const Settings& s)
 		}
 		res.iterations = static_cast<int>(info.num_iters);
 		res.reported_cost = info.final_total_sq_error;
-		res.final_cost = swba::io::pose_graph_cost(g);
-		res.note = "reported cost = MRPT's unweighted sum of squared errors";
+		res.final_cost = 0;  // evaluated per model by the caller
+		res.solution = g;
+		res.note = "solver's cost = MRPT's own unweighted sum of squared errors";
 	}
 	catch (const std::exception& e)
 	{
@@ -328,6 +346,9 @@ int parse_int(const char* s, const char* name)
 int main(int argc, char** argv)
 {
 	Settings s;
+	const char* usage =
+		"usage: swba_bench_pgo [--threads N] [--max-iterations K] [--repeat R] [--mrpt-max-iterations K]\n"
+		"                      [--model g2o|ceres|both] [--no-mrpt] [--no-ceres] [graph.g2o ...]\n";
 	for (int i = 1; i < argc; i++)
 	{
 		const std::string a = argv[i];
@@ -343,17 +364,27 @@ int main(int argc, char** argv)
 		else if (a == "--max-iterations") s.max_iterations = parse_int(next(), "--max-iterations");
 		else if (a == "--repeat") s.repeat = parse_int(next(), "--repeat");
 		else if (a == "--mrpt-max-iterations") s.mrpt_max_iterations = parse_int(next(), "--mrpt-max-iterations");
+		else if (a == "--model")
+		{
+			const std::string m = next();
+			if (m == "both") s.models = {swba::RotationError::G2o, swba::RotationError::CeresExample};
+			else if (m == "g2o" || m == "ceres") s.models = {swba::io::parse_rotation_error(m)};
+			else
+			{
+				std::fprintf(stderr, "swba_bench_pgo: --model expects g2o, ceres or both\n");
+				return 2;
+			}
+		}
 		else if (a == "--no-mrpt") s.run_mrpt = false;
 		else if (a == "--no-ceres") s.run_ceres = false;
 		else if (a == "--help" || a == "-h")
 		{
-			std::printf("usage: swba_bench_pgo [--threads N] [--max-iterations K] [--repeat R] "
-						"[--mrpt-max-iterations K] [--no-mrpt] [--no-ceres] [graph.g2o ...]\n");
+			std::printf("%s", usage);
 			return 0;
 		}
 		else if (!a.empty() && a[0] == '-')
 		{
-			std::fprintf(stderr, "swba_bench_pgo: unknown option %s\n", a.c_str());
+			std::fprintf(stderr, "swba_bench_pgo: unknown option %s\n%s", a.c_str(), usage);
 			return 2;
 		}
 		else s.graphs.push_back(a);
@@ -375,9 +406,11 @@ int main(int argc, char** argv)
 				"not built"
 #endif
 	);
-	std::printf("final cost = 1/2 sum r^T Lambda r of the reference model (doc/pgo.md), recomputed for every solver\n\n");
-	std::printf("%-16s %-6s %14s %16s %16s %6s %9s %9s %10s\n", "graph", "solver", "initial cost", "final cost",
-				"solver's cost", "iters", "setup[s]", "solve[s]", "ours/ceres");
+	std::printf("final cost = 1/2 sum r^T Lambda r of the model's residual (doc/pgo.md), recomputed for every solver;\n"
+				"model g2o: rotation error 2 vec(q_ab^-1 q_a^-1 q_b); model ceres: 2 vec(q_ab (q_a^-1 q_b)^-1)\n"
+				"(2D graphs have one model). Times: solve only (setup = building the solver's problem).\n\n");
+	std::printf("%-15s %-5s %-6s %13s %16s %16s %5s %8s %8s %10s\n", "graph", "model", "solver", "initial cost",
+				"final cost", "solver's cost", "iters", "setup[s]", "solve[s]", "ours/ceres");
 	int rc = 0;
 	for (const auto& path : s.graphs)
 	{
@@ -394,37 +427,55 @@ int main(int argc, char** argv)
 		}
 		std::string name = path.substr(path.find_last_of('/') + 1);
 		if (name.size() > 4 && name.substr(name.size() - 4) == ".g2o") name.resize(name.size() - 4);
-		const double initial = swba::io::pose_graph_cost(g);
-		std::vector<Result> results;
-		results.push_back(run_swba(g, s));
-#ifdef SWBA_BENCH_HAVE_CERES
-		if (s.run_ceres) results.push_back(run_ceres(g, s));
-#endif
+		std::vector<swba::RotationError> models = s.models;
+		if (g.is_2d()) models = {swba::RotationError::G2o};  // the rotation convention is 3D only
+
+		std::vector<std::string> notes;
+		Result mrpt;
 #ifdef SWBA_BENCH_HAVE_MRPT_GRAPHSLAM
-		if (s.run_mrpt) results.push_back(run_mrpt(g, s));
+		if (s.run_mrpt) mrpt = run_mrpt(g, s);
 #endif
-		const Result* ceres = nullptr;
-		for (const auto& r : results)
-			if (r.solver == "ceres") ceres = &r;
-		for (const auto& r : results)
+		for (const auto model : models)
 		{
-			char ratio[32] = "";
-			if (ceres && r.solver == "swba" && ceres->solve_s > 0)
-				std::snprintf(ratio, sizeof ratio, "%.2f", r.solve_s / ceres->solve_s);
-			if (r.final_cost < 0)
-				std::printf("%-16s %-6s %14.6e %16s %16s %6s %9s %9s %10s  %s\n", name.c_str(), r.solver.c_str(),
-							initial, "-", "-", "-", "-", "-", "", r.note.c_str());
-			else
-				std::printf("%-16s %-6s %14.6e %16.10g %16.10g %6d %9.3f %9.3f %10s\n", name.c_str(), r.solver.c_str(),
-							initial, r.final_cost, r.reported_cost, r.iterations, r.setup_s, r.solve_s, ratio);
+			const char* mname = g.is_2d() ? "2d" : model_name(model);
+			const double initial = swba::io::pose_graph_cost(g, model);
+			std::vector<Result> results;
+			results.push_back(run_swba(g, s, model));
+#ifdef SWBA_BENCH_HAVE_CERES
+			if (s.run_ceres) results.push_back(run_ceres(g, s, model));
+#endif
+			if (!mrpt.solver.empty())
+			{
+				results.push_back(mrpt);
+				if (mrpt.final_cost >= 0) results.back().final_cost = swba::io::pose_graph_cost(mrpt.solution, model);
+			}
+			const Result* ceres = nullptr;
+			for (const auto& r : results)
+				if (r.solver == "ceres") ceres = &r;
+			for (const auto& r : results)
+			{
+				char ratio[32] = "";
+				if (ceres && r.solver == "swba" && ceres->solve_s > 0)
+					std::snprintf(ratio, sizeof ratio, "%.2f", r.solve_s / ceres->solve_s);
+				if (r.final_cost < 0)
+					std::printf("%-15s %-5s %-6s %13.6e %16s %16s %5s %8s %8s %10s  %s\n", name.c_str(), mname,
+								r.solver.c_str(), initial, "-", "-", "-", "-", "-", "", r.note.c_str());
+				else
+					std::printf("%-15s %-5s %-6s %13.6e %16.10g %16.10g %5d %8.3f %8.3f %10s\n", name.c_str(), mname,
+								r.solver.c_str(), initial, r.final_cost, r.reported_cost, r.iterations, r.setup_s,
+								r.solve_s, ratio);
+				if (!r.note.empty() && r.final_cost >= 0)
+					notes.push_back(name + " " + mname + " " + r.solver + ": " + r.note);
+			}
+			if (ceres && ceres->final_cost > 0)
+			{
+				char buf[64];
+				std::snprintf(buf, sizeof buf, "%+.2e", (results[0].final_cost - ceres->final_cost) / ceres->final_cost);
+				notes.push_back(name + " " + mname + ": relative final-cost difference swba vs ceres " + buf);
+			}
+			std::fflush(stdout);
 		}
-		if (ceres && ceres->final_cost > 0)
-			std::printf("%-16s relative final-cost difference swba vs ceres: %+.2e\n", name.c_str(),
-						(results[0].final_cost - ceres->final_cost) / ceres->final_cost);
-		for (const auto& r : results)
-			if (!r.note.empty() && r.final_cost >= 0)
-				std::printf("%-16s   %s: %s\n", name.c_str(), r.solver.c_str(), r.note.c_str());
-		std::fflush(stdout);
+		for (const auto& n : notes) std::printf("    %s\n", n.c_str());
 	}
 	return rc;
 }

@@ -199,3 +199,43 @@ TEST(PgoLoop2d, RecoveredFromPerturbedStartAcrossTheAngleCut)
 	}
 }
 }  // namespace
+
+namespace
+{
+struct ReferenceCase
+{
+	const char* file;
+	swba::RotationError model;
+	double ceres_final_cost;  // Ceres 2.1, SPARSE_NORMAL_CHOLESKY, same model, first pose fixed
+	const char* source;
+};
+
+/** Solves a shipped graph with default options (first pose fixed) and compares the final cost with
+ * Ceres's on the same model: within 1e-4 relative. */
+TEST(PgoShippedGraphs, FinalCostsMatchCeresOnTheSameModel)
+{
+	const ReferenceCase cases[] = {
+		{"smallGrid3D.g2o", swba::RotationError::G2o, 512.6991351, "bench/pgo, measured here"},
+		{"sphere2500.g2o", swba::RotationError::CeresExample, 677.0087, "issue 6 / REFERENCE"},
+		{"sphere2500.g2o", swba::RotationError::G2o, 675.6080111, "bench/pgo, measured here"},
+		{"parking-garage.g2o", swba::RotationError::CeresExample, 0.634190, "issue 6 / REFERENCE"},
+	};
+	for (const auto& c : cases)
+	{
+		PoseGraph g = read_g2o(std::string(SWBA_DATA_DIR) + "/posegraph/" + c.file);
+		PoseGraphProblemOptions po;
+		po.rotation_error = c.model;
+		auto pp = build_pose_graph_problem(g, po);
+		swba::SolverOptions o;
+		o.max_iterations = 100;
+		o.num_threads = 2;
+		const auto summary = swba::solve(pp.problem, o);
+		ASSERT_TRUE(summary.is_solution_usable()) << c.file;
+		update_pose_graph(g, pp);
+		const double cost = pose_graph_cost(g, c.model);
+		EXPECT_NEAR(cost, summary.final_cost, 1e-9 * cost) << c.file;
+		EXPECT_NEAR(cost / c.ceres_final_cost, 1.0, 1e-4)
+			<< c.file << " model " << static_cast<int>(c.model) << " (reference: " << c.source << ")";
+	}
+}
+}  // namespace

@@ -43,10 +43,35 @@ TEST(RelativePoseFactor, JacobiansMatchNumericAtRandomPoses)
 		const Eigen::Quaterniond qb = qa * qab * random_quaternion(rng, 2.5);
 		const Eigen::Vector3d ta(u(rng), u(rng), u(rng)), tb(u(rng), u(rng), u(rng)), tab(u(rng), u(rng), u(rng));
 		const auto xa = se3_value(qa, ta), xb = se3_value(qb, tb);
-		const swba::RelativePoseFactor f(qab, tab);
-		const auto cmp = swba::compare_jacobians(f, {xa.data(), xb.data()}, {se3, se3});
-		EXPECT_LE(cmp.max_relative_error(), 1e-6) << "trial " << trial;
+		for (auto conv : {swba::RotationError::G2o, swba::RotationError::CeresExample})
+		{
+			const swba::RelativePoseFactor f(qab, tab, conv);
+			const auto cmp = swba::compare_jacobians(f, {xa.data(), xb.data()}, {se3, se3});
+			EXPECT_LE(cmp.max_relative_error(), 1e-6) << "trial " << trial << " convention " << static_cast<int>(conv);
+		}
 	}
+}
+
+TEST(RelativePoseFactor, ConventionsDifferByTheMeasuredRotation)
+{
+	// vec q(R_ab·R_bᵀ·R_a) = −R_ab · vec q(R_abᵀ·R_aᵀ·R_b): same norm, rotated error vector.
+	std::mt19937 rng(9);
+	const auto qa = random_quaternion(rng, M_PI), qab = random_quaternion(rng, M_PI);
+	const Eigen::Quaterniond qb = qa * qab * random_quaternion(rng, 0.5);
+	const auto xa = se3_value(qa, Eigen::Vector3d(1, 2, 3)), xb = se3_value(qb, Eigen::Vector3d(-1, 0, 2));
+	const double* x[2] = {xa.data(), xb.data()};
+	double rg[6], rc[6];
+	ASSERT_TRUE(swba::RelativePoseFactor(qab, Eigen::Vector3d(0.5, 0, 0), swba::RotationError::G2o).evaluate(x, rg, nullptr));
+	ASSERT_TRUE(
+		swba::RelativePoseFactor(qab, Eigen::Vector3d(0.5, 0, 0), swba::RotationError::CeresExample).evaluate(x, rc, nullptr));
+	const Eigen::Vector3d expected = -(qab * Eigen::Vector3d(rg[3], rg[4], rg[5]));
+	for (int i = 0; i < 3; i++)
+	{
+		EXPECT_EQ(rg[i], rc[i]);  // same translation residual
+		EXPECT_NEAR(rc[3 + i], expected[i], 1e-14);
+	}
+	EXPECT_GT(Eigen::Vector3d(rg[3], rg[4], rg[5]).norm(), 0.05);
+	EXPECT_GT((Eigen::Vector3d(rg[3], rg[4], rg[5]) - Eigen::Vector3d(rc[3], rc[4], rc[5])).norm(), 0.01);
 }
 
 TEST(RelativePoseFactor, JacobiansMatchNumericNearTheSolution)
@@ -59,9 +84,12 @@ TEST(RelativePoseFactor, JacobiansMatchNumericNearTheSolution)
 	const Eigen::Quaterniond qb = qa * qab * Eigen::Quaterniond(Eigen::AngleAxisd(1e-5, Eigen::Vector3d::UnitX()));
 	const Eigen::Vector3d tb = ta + qa * tab;
 	const auto xa = se3_value(qa, ta), xb = se3_value(qb, tb);
-	const swba::RelativePoseFactor f(qab, tab);
-	const auto cmp = swba::compare_jacobians(f, {xa.data(), xb.data()}, {se3, se3});
-	EXPECT_LE(cmp.max_relative_error(), 1e-6);
+	for (auto conv : {swba::RotationError::G2o, swba::RotationError::CeresExample})
+	{
+		const swba::RelativePoseFactor f(qab, tab, conv);
+		const auto cmp = swba::compare_jacobians(f, {xa.data(), xb.data()}, {se3, se3});
+		EXPECT_LE(cmp.max_relative_error(), 1e-6);
+	}
 }
 
 TEST(RelativePoseFactor, ResidualIsZeroForAConsistentMeasurementAndMatchesRotationVector)
@@ -144,13 +172,22 @@ TEST(PoseGraphProblem, ProblemCostEqualsIndependentReferenceCost)
 {
 	// Problem::cost goes through RelativePoseFactor (rotation matrices, whitening by Lᵀ);
 	// pose_graph_cost evaluates ½ rᵀΛr with quaternion algebra: they must agree.
-	for (const char* name : {"smallGrid3D.g2o", "intel.g2o"})
+	for (const char* name : {"smallGrid3D.g2o", "sphere2500.g2o", "intel.g2o"})
 	{
 		const auto g = swba::io::read_g2o(std::string(SWBA_DATA_DIR) + "/posegraph/" + name);
-		const auto pp = swba::io::build_pose_graph_problem(g);
-		const double ref = swba::io::pose_graph_cost(g);
-		EXPECT_GT(ref, 0.0) << name;
-		EXPECT_NEAR(pp.problem.cost(), ref, 1e-10 * ref) << name;
+		for (auto conv : {swba::RotationError::G2o, swba::RotationError::CeresExample})
+		{
+			swba::io::PoseGraphProblemOptions po;
+			po.rotation_error = conv;
+			const auto pp = swba::io::build_pose_graph_problem(g, po);
+			const double ref = swba::io::pose_graph_cost(g, conv);
+			EXPECT_GT(ref, 0.0) << name;
+			EXPECT_NEAR(pp.problem.cost(), ref, 1e-10 * ref) << name << " " << static_cast<int>(conv);
+		}
 	}
+	// Initial costs of the two 3D conventions as Ceres reports them for sphere2500 (bench/pgo).
+	const auto g = swba::io::read_g2o(std::string(SWBA_DATA_DIR) + "/posegraph/sphere2500.g2o");
+	EXPECT_NEAR(swba::io::pose_graph_cost(g, swba::RotationError::G2o), 1292302.995442, 1e-6);
+	EXPECT_NEAR(swba::io::pose_graph_cost(g, swba::RotationError::CeresExample), 1292384.216700, 1e-6);
 }
 }  // namespace

@@ -33,10 +33,11 @@ double wrap_angle_pm_pi(double a)
 }
 }  // namespace
 
-RelativePoseFactor::RelativePoseFactor(const Eigen::Quaterniond& q_ab, const Eigen::Vector3d& t_ab)
-	: Factor(6, {6, 6}), q_ab_(q_ab.normalized()), t_ab_(t_ab)
+RelativePoseFactor::RelativePoseFactor(const Eigen::Quaterniond& q_ab, const Eigen::Vector3d& t_ab,
+									   RotationError rotation_error)
+	: Factor(6, {6, 6}), q_ab_(q_ab.normalized()), t_ab_(t_ab), rotation_error_(rotation_error)
 {
-	R_ab_T_ = q_ab_.toRotationMatrix().transpose();
+	R_ab_ = q_ab_.toRotationMatrix();
 }
 
 bool RelativePoseFactor::evaluate(const double* const* x, double* residual, double* const* jacobians) const
@@ -47,7 +48,10 @@ bool RelativePoseFactor::evaluate(const double* const* x, double* residual, doub
 	const Mat33 Rb = Tb.leftCols<3>();
 	const Eigen::Vector3d d_a = Ra_T * (Tb.col(3) - Ta.col(3));  // R_aᵀ(t_b − t_a)
 	const Mat33 Rab_est = Ra_T * Rb;                              // R_aᵀ R_b
-	const Eigen::Quaterniond q_err = canonical_quaternion(R_ab_T_ * Rab_est);
+	const bool g2o = rotation_error_ == RotationError::G2o;
+	// G2o: E = R_abᵀ·R_aᵀ·R_b; CeresExample: F = R_ab·R_bᵀ·R_a.
+	const Eigen::Quaterniond q_err =
+		canonical_quaternion(g2o ? Mat33(R_ab_.transpose() * Rab_est) : Mat33(R_ab_ * Rab_est.transpose()));
 
 	Eigen::Map<Eigen::Matrix<double, 6, 1>> r(residual);
 	r.head<3>() = d_a - t_ab_;
@@ -56,14 +60,17 @@ bool RelativePoseFactor::evaluate(const double* const* x, double* residual, doub
 	if (jacobians && (jacobians[0] || jacobians[1]))
 	{
 		const Mat33 D = d_twice_vec_d_right_rotation(q_err);
+		// G2o: R_b ← R_b·Exp(ω) gives E·Exp(ω); R_a ← R_a·Exp(ω) gives E·Exp(−R_bᵀR_a ω).
+		// CeresExample: R_a ← R_a·Exp(ω) gives F·Exp(ω); R_b ← R_b·Exp(ω) gives F·Exp(−R_aᵀR_b ω).
+		const Mat33 d_rot_a = g2o ? Mat33(-D * Rab_est.transpose()) : D;
+		const Mat33 d_rot_b = g2o ? D : Mat33(-D * Rab_est);
 		if (jacobians[0])
 		{
 			Eigen::Map<Mat66> J(jacobians[0]);
 			J.topLeftCorner<3, 3>() = -Mat33::Identity();
 			J.topRightCorner<3, 3>() = skew(d_a);
 			J.bottomLeftCorner<3, 3>().setZero();
-			// E·Exp(−R_bᵀR_a ω_a): the rotation error seen through pose b.
-			J.bottomRightCorner<3, 3>() = -D * Rab_est.transpose();
+			J.bottomRightCorner<3, 3>() = d_rot_a;
 		}
 		if (jacobians[1])
 		{
@@ -71,7 +78,7 @@ bool RelativePoseFactor::evaluate(const double* const* x, double* residual, doub
 			J.topLeftCorner<3, 3>() = Rab_est;
 			J.topRightCorner<3, 3>().setZero();
 			J.bottomLeftCorner<3, 3>().setZero();
-			J.bottomRightCorner<3, 3>() = D;
+			J.bottomRightCorner<3, 3>() = d_rot_b;
 		}
 	}
 	return true;

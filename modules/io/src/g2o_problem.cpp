@@ -33,6 +33,13 @@ PoseGraphGauge parse_pose_graph_gauge(const std::string& name)
 	throw std::invalid_argument("unknown gauge '" + name + "' (expected fix, prior or free)");
 }
 
+RotationError parse_rotation_error(const std::string& name)
+{
+	if (name == "g2o") return RotationError::G2o;
+	if (name == "ceres") return RotationError::CeresExample;
+	throw std::invalid_argument("unknown rotation error '" + name + "' (expected g2o or ceres)");
+}
+
 PoseGraphProblem build_pose_graph_problem(const PoseGraph& g, const PoseGraphProblemOptions& opt)
 {
 	if (g.num_vertices() == 0) throw std::invalid_argument("pose graph has no vertices");
@@ -57,7 +64,7 @@ PoseGraphProblem build_pose_graph_problem(const PoseGraph& g, const PoseGraphPro
 
 	for (const auto& e : g.edges3)
 	{
-		auto f = std::make_shared<RelativePoseFactor>(e.q, e.t);
+		auto f = std::make_shared<RelativePoseFactor>(e.q, e.t, opt.rotation_error);
 		f->set_information(e.information);
 		P.add_factor(f, {out.variable_of.at(e.from), out.variable_of.at(e.to)}, opt.loss);
 	}
@@ -113,7 +120,7 @@ void update_pose_graph(PoseGraph& g, const PoseGraphProblem& pp)
 	}
 }
 
-double pose_graph_cost(const PoseGraph& g)
+double pose_graph_cost(const PoseGraph& g, RotationError rotation_error)
 {
 	double cost = 0;
 	for (const auto& e : g.edges3)
@@ -122,7 +129,9 @@ double pose_graph_cost(const PoseGraph& g)
 		const auto& b = g.vertices3.at(e.to);
 		Eigen::Matrix<double, 6, 1> r;
 		r.head<3>() = a.q.conjugate() * (b.t - a.t) - e.t;
-		Eigen::Quaterniond dq = e.q.conjugate() * a.q.conjugate() * b.q;
+		const Eigen::Quaterniond q_est = a.q.conjugate() * b.q;
+		Eigen::Quaterniond dq =
+			rotation_error == RotationError::G2o ? e.q.conjugate() * q_est : e.q * q_est.conjugate();
 		if (dq.w() < 0) dq.coeffs() = -dq.coeffs();
 		r.tail<3>() = 2.0 * dq.vec();
 		cost += 0.5 * r.dot(e.information * r);

@@ -3,12 +3,16 @@
  * costs are directly comparable with a Ceres solve of the same graph.
  *
  * 3D (variables on SE3Manifold, right perturbations δ = [ρ, ω], T ⊞ δ = T·PseudoExp(δ)):
- *   r = [ R_aᵀ(t_b − t_a) − t_ab ;  2·vec(q(E)) ],   E = R_abᵀ·R_aᵀ·R_b,
- * where q(E) is the unit quaternion of E with w ≥ 0 (i.e. 2·vec(q_ab⁻¹·q_a⁻¹·q_b) with the sign
- * chosen so that the rotation error is measured the short way round). For small errors the rotation
- * part equals the rotation vector of E (2·vec(q) ≈ θ·u), so the g2o information block of
- * (qx, qy, qz) applies to it without rescaling: the residual is ordered (x, y, z, qx, qy, qz) exactly
- * like the 21 upper-triangular information entries of EDGE_SE3:QUAT.
+ *   r = [ R_aᵀ(t_b − t_a) − t_ab ;  2·vec(q(E)) ]
+ * with the rotation error E chosen by RotationError:
+ *   G2o:          E = R_abᵀ·R_aᵀ·R_b   (2·vec(q_ab⁻¹·q_a⁻¹·q_b): g2o's EdgeSE3 rotation error, Z⁻¹·Ti⁻¹·Tj)
+ *   CeresExample: E = R_ab·R_bᵀ·R_a    (2·vec(q_ab·(q_a⁻¹·q_b)⁻¹): Ceres's pose_graph_3d example)
+ * The two differ by a rotation of the error vector by R_ab (vec q(F) = −R_ab·vec q(E)), which matters
+ * when the rotation information is not isotropic (sphere2500). q(E) is the unit quaternion of E with
+ * w ≥ 0 (the error is measured the short way round). For small errors 2·vec(q(E)) equals the
+ * rotation vector of E (2·sin(θ/2)·u ≈ θ·u), so the g2o information block of (qx, qy, qz) applies
+ * to it without rescaling: the residual is ordered (x, y, z, qx, qy, qz) exactly like the 21
+ * upper-triangular information entries of EDGE_SE3:QUAT.
  *
  * 2D (native SE(2), variables on EuclideanManifold(3) holding (x, y, θ)):
  *   r = [ R(θ_a)ᵀ(p_b − p_a) − p_ab ;  wrap(θ_b − θ_a − θ_ab) ],  wrap to (−π, π],
@@ -22,12 +26,20 @@
 
 namespace swba
 {
+/** Which quaternion error the rotation part of the 3D residual uses (see the file comment). */
+enum class RotationError
+{
+	G2o,          ///< 2·vec(q_ab⁻¹·q_a⁻¹·q_b) (default)
+	CeresExample  ///< 2·vec(q_ab·(q_a⁻¹·q_b)⁻¹)
+};
+
 /** Relative SE(3) pose measurement Z = (q_ab, t_ab) of pose b in the frame of pose a. */
 class RelativePoseFactor final : public Factor
 {
    public:
 	/** `q_ab` is normalised here. */
-	RelativePoseFactor(const Eigen::Quaterniond& q_ab, const Eigen::Vector3d& t_ab);
+	RelativePoseFactor(const Eigen::Quaterniond& q_ab, const Eigen::Vector3d& t_ab,
+					   RotationError rotation_error = RotationError::G2o);
 
 	bool evaluate(const double* const* x, double* residual, double* const* jacobians) const override;
 
@@ -36,8 +48,9 @@ class RelativePoseFactor final : public Factor
 
    private:
 	Eigen::Quaterniond q_ab_;
-	Eigen::Matrix3d R_ab_T_;  // R_abᵀ
+	Eigen::Matrix3d R_ab_;
 	Eigen::Vector3d t_ab_;
+	RotationError rotation_error_;
 };
 
 /** Unary prior on an SE(3) pose with the same residual as RelativePoseFactor with pose a fixed to

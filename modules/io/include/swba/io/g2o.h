@@ -19,6 +19,7 @@
 #pragma once
 
 #include <swba/core/loss.h>
+#include <swba/factors/relative_pose.h>
 #include <swba/nonlinear/problem.h>
 
 #include <Eigen/Core>
@@ -104,7 +105,12 @@ struct PoseGraphProblemOptions
 	double prior_sigma = 1e-3;
 	/** Robust loss for every edge (null = plain least squares). Default null. */
 	std::shared_ptr<const LossFunction> loss;
+	/** Rotation error of 3D edges (relative_pose.h). Default G2o: 2·vec(q_ab⁻¹·q_a⁻¹·q_b). */
+	RotationError rotation_error = RotationError::G2o;
 };
+
+/** Parses "g2o", "ceres" (RotationError::CeresExample); throws std::invalid_argument otherwise. */
+RotationError parse_rotation_error(const std::string& name);
 
 /** A Problem built from a PoseGraph, with the map from g2o ids to variables. */
 struct PoseGraphProblem
@@ -124,6 +130,7 @@ PoseGraphProblem build_pose_graph_problem(const PoseGraph& graph, const PoseGrap
 void update_pose_graph(PoseGraph& graph, const PoseGraphProblem& problem);
 
 /** Cost of the reference model, ½ Σ rᵀΛr over all edges (no loss, no prior), at the graph's
- * vertex values; r as in relative_pose.h. Independent of any Problem: used to compare peers. */
-double pose_graph_cost(const PoseGraph& graph);
+ * vertex values; r as in relative_pose.h, computed here independently with quaternion algebra.
+ * Used to compare peers whatever they report themselves. */
+double pose_graph_cost(const PoseGraph& graph, RotationError rotation_error = RotationError::G2o);
 }  // namespace swba::io
