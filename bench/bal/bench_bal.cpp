@@ -43,6 +43,7 @@ struct RunResult
 	PeerResult peer;
 	long peak_rss_kb = 0;
 	long rss_before_solve_kb = 0;
+	double cpu_s = 0;  ///< user + system CPU time of the whole child (read + build + solve)
 };
 
 long current_rss_kb()
@@ -56,6 +57,8 @@ long current_rss_kb()
 // Runs one solve in a child process; the child reads the problem itself.
 RunResult run_in_child(const std::string& path, const Config& c, const PeerSettings& settings)
 {
+	std::cout.flush();
+	std::fflush(nullptr);
 	int fds[2];
 	if (pipe(fds) != 0) throw std::runtime_error("pipe failed");
 	const pid_t pid = fork();
@@ -79,7 +82,8 @@ RunResult run_in_child(const std::string& path, const Config& c, const PeerSetti
 #endif
 			rusage ru{};
 			getrusage(RUSAGE_SELF, &ru);
-			out << "ok 1\nrss " << ru.ru_maxrss << "\nrss_before " << rss_before << "\ninitial " << r.initial_cost
+			const double cpu = ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec + ru.ru_stime.tv_sec + 1e-6 * ru.ru_stime.tv_usec;
+			out << "ok 1\ncpu " << cpu << "\nrss " << ru.ru_maxrss << "\nrss_before " << rss_before << "\ninitial " << r.initial_cost
 				<< "\nfinal " << r.final_cost << "\niterations " << r.iterations << "\ntime " << r.solve_time_s << "\n";
 			for (const auto& it : r.log) out << "iter " << it.iteration << " " << it.cost << " " << it.cumulative_time_s << "\n";
 			out << "termination " << r.termination << "\n";
@@ -123,6 +127,7 @@ RunResult run_in_child(const std::string& path, const Config& c, const PeerSetti
 		}
 		if (key == "ok") in >> ok;
 		else if (key == "rss") in >> rr.peak_rss_kb;
+		else if (key == "cpu") in >> rr.cpu_s;
 		else if (key == "rss_before") in >> rr.rss_before_solve_kb;
 		else if (key == "initial") in >> rr.peer.initial_cost;
 		else if (key == "final") in >> rr.peer.final_cost;
@@ -242,20 +247,22 @@ int run(int argc, char** argv)
 			}
 		}
 		// Times to target: Ceres from its log, swba from the stop_at_cost runs.
-		std::vector<double> t_full(nc), t_target(nc), rss(nc);
+		std::vector<double> t_full(nc), t_target(nc), rss(nc), cpu(nc);
 		for (size_t c = 0; c < nc; c++)
 		{
-			std::vector<double> tf, tt;
+			std::vector<double> tf, tt, tc;
 			long peak = 0;
 			for (const auto& r : full[c])
 			{
 				tf.push_back(r.peer.solve_time_s);
+				tc.push_back(r.cpu_s);
 				if (configs[c].ceres) tt.push_back(time_to_target_from_log(r.peer, target));
 				peak = std::max(peak, r.peak_rss_kb);
 			}
 			for (const auto& r : to_target[c])
 				tt.push_back(r.peer.final_cost <= target ? r.peer.solve_time_s : -1);
 			t_full[c] = median(tf);
+			cpu[c] = median(tc);
 			t_target[c] = median(tt);
 			rss[c] = peak / 1024.0;
 		}
@@ -269,16 +276,16 @@ int run(int argc, char** argv)
 
 		std::cout << "target cost (Ceres SPARSE_SCHUR final × (1+" << rtol.getValue() << ")): " << fmt("%.6f", target)
 				  << "\n\n";
-		std::cout << "| solver | initial cost | final cost | iterations | time [s] | time to target [s] | ratio vs Ceres "
-					 "SPARSE_SCHUR | ratio vs fastest Ceres | peak RSS [MiB] |\n";
-		std::cout << "|---|---|---|---|---|---|---|---|---|\n";
+		std::cout << "| solver | initial cost | final cost | iterations | time [s] | CPU [s] | time to target [s] | ratio vs "
+					 "Ceres SPARSE_SCHUR | ratio vs fastest Ceres | peak RSS [MiB] |\n";
+		std::cout << "|---|---|---|---|---|---|---|---|---|---|\n";
 		for (size_t c = 0; c < nc; c++)
 		{
 			const auto& r0 = full[c].front().peer;
 			const double tt = t_target[c];
 			std::cout << "| " << configs[c].name << " | " << fmt("%.6e", r0.initial_cost) << " | "
 					  << fmt("%.6f", r0.final_cost) << " | " << r0.iterations << " | " << fmt("%.3f", t_full[c]) << " | "
-					  << (tt > 0 ? fmt("%.3f", tt) : std::string("not reached")) << " | "
+					  << fmt("%.3f", cpu[c]) << " | " << (tt > 0 ? fmt("%.3f", tt) : std::string("not reached")) << " | "
 					  << (tt > 0 && ceres_sparse_t > 0 ? fmt("%.2f", tt / ceres_sparse_t) : std::string("-")) << " | "
 					  << (tt > 0 && ceres_best_t > 0 ? fmt("%.2f", tt / ceres_best_t) : std::string("-")) << " | "
 					  << fmt("%.1f", rss[c]) << " |\n";
