@@ -5,12 +5,23 @@
 #include <mrpt/system/filesystem.h>
 
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
 namespace swba::estimators
 {
+namespace
+{
+double process_cpu_seconds()
+{
+	timespec ts{};
+	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+	return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+}  // namespace
+
 int ekf_method_from_name(const std::string& name)
 {
 	static const char* names[] = {"kfEKFNaive", "kfEKFAlaDavison", "kfIKFFull", "kfIKF"};
@@ -102,7 +113,7 @@ EkfSlamResult run_ekf_slam(const std::vector<io::RawlogStep>& steps, const EkfSl
 
 	res.times.reserve(n);
 	res.poses.reserve(n);
-	double seconds = 0;
+	double seconds = 0, cpu_seconds = 0;
 	for (std::size_t k = 0; k < n; k++)
 	{
 		mrpt::obs::CActionCollection::Ptr acts = steps[k].actions;
@@ -115,6 +126,7 @@ EkfSlamResult run_ekf_slam(const std::vector<io::RawlogStep>& steps, const EkfSl
 			break;
 		}
 		const auto t0 = std::chrono::steady_clock::now();
+		const double c0 = process_cpu_seconds();
 		try
 		{
 			ekf.processActionObservation(acts, sf);
@@ -122,6 +134,7 @@ EkfSlamResult run_ekf_slam(const std::vector<io::RawlogStep>& steps, const EkfSl
 		catch (const std::exception& e)
 		{
 			seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+			cpu_seconds += process_cpu_seconds() - c0;
 			res.failed = true;
 			res.failed_step = k;
 			res.failure = io::mrpt_exception_summary(e.what());
@@ -129,6 +142,7 @@ EkfSlamResult run_ekf_slam(const std::vector<io::RawlogStep>& steps, const EkfSl
 			break;
 		}
 		seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+		cpu_seconds += process_cpu_seconds() - c0;
 		res.times.push_back(steps[k].time());
 		res.poses.emplace_back(ekf.getCurrentRobotPoseMean());
 		res.steps_processed++;
@@ -136,6 +150,8 @@ EkfSlamResult run_ekf_slam(const std::vector<io::RawlogStep>& steps, const EkfSl
 	}
 	res.seconds = seconds;
 	res.ms_per_step = res.steps_processed ? 1e3 * seconds / double(res.steps_processed) : 0.0;
+	res.cpu_seconds = cpu_seconds;
+	res.cpu_ms_per_step = res.steps_processed ? 1e3 * cpu_seconds / double(res.steps_processed) : 0.0;
 	res.landmarks = ekf.getNumberOfLandmarksInTheMap();
 	return res;
 }

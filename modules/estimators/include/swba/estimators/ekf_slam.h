@@ -53,6 +53,10 @@ struct EkfSlamResult
 	std::size_t steps_processed = 0;  ///< steps that completed
 	double seconds = 0;	 ///< wall time inside processActionObservation (all processed steps)
 	double ms_per_step = 0;	 ///< seconds·1000 / steps_processed (0 if none)
+	/** Process CPU time inside processActionObservation: on a loaded, shared machine a steadier
+	 * measure of the EKF's cost than wall time. */
+	double cpu_seconds = 0;
+	double cpu_ms_per_step = 0;	 ///< cpu_seconds·1000 / steps_processed (0 if none)
 	std::size_t landmarks = 0;	///< landmarks in the filter's map at the end
 	/** True when MRPT threw: `failed_step` is the step k whose processing threw (its pose is not
 	 * kept), `failure` a one-line message. */
