@@ -1,0 +1,110 @@
+/** \file run_app.h
+ * `swba run`: every estimator on the same rawlog — MRPT's EKF (each method), the sliding window for
+ * each W (online and lagged trajectories, each landmark policy and FEJ setting asked for), the batch
+ * solution and optionally the full-history causal optimum — then APE against the ground truth, a
+ * comparison table and the files of doc/run.md (TUM trajectories, ape.txt, ape.csv, summary.json,
+ * plots). An estimator that fails (MRPT's EKF throws on kf-slam_6D_demo_noncentered) becomes a row
+ * with the step and the message; it never aborts the run.
+ *
+ * Pairing with the ground truth (see ../shared/REFERENCE.md and swba/io/rawlog.h): the estimate after
+ * step k has time t = k + 1 and is compared with GT row k + 1 (row i = the true pose when SF_i was
+ * taken); APE is not aligned. */
+#pragma once
+
+#include <swba/estimators/run_config.h>
+#include <swba/eval/metrics.h>
+#include <swba/eval/trajectory.h>
+#include <swba/io/rawlog.h>
+
+#include <mrpt/poses/CPose3D.h>
+
+#include <cstddef>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace swba::estimators
+{
+/** One estimator's result: one row of the comparison table, one entry of summary.json. */
+struct RunRow
+{
+	std::string name;        ///< "ekf", "window", "batch" or "causal"
+	std::string label;       ///< unique display name, e.g. "window W=10", "window W=10 slam nofej", "ekf kfEKFNaive"
+	int window = 0;          ///< W for window rows; 0 = none (null in JSON)
+	std::string trajectory;  ///< "online" (EKF, window online, causal), "lagged" (window), "smoothed" (batch)
+	std::string policy;      ///< window rows: "slam" / "constant-time"; else ""
+	std::optional<bool> fej; ///< window rows: first-estimate Jacobians on/off
+	std::string method;      ///< EKF rows: MRPT's method name
+	std::string file;        ///< TUM file name inside the output directory ("" = not written)
+	eval::Trajectory estimate;  ///< t = k + 1 for the pose after step k
+
+	bool has_ape = false;    ///< false without ground truth or when the estimator failed
+	eval::Statistics ape_trans, ape_full;  ///< APE translation part (m), full transformation (unit-less)
+
+	double seconds = 0;      ///< wall time of the estimator (all its steps, or the batch solve)
+	double ms_per_step = 0;  ///< seconds·1000 / steps processed
+	std::size_t steps = 0;   ///< steps processed
+	/** Wall time of each step in milliseconds (window and EKF rows; empty for batch). The lagged row
+	 * shares the run of its online row and has the same numbers. */
+	std::vector<double> step_ms;
+	double mean_iterations = 0;  ///< window rows: mean LM iterations per step; batch: iterations
+
+	bool failed = false;
+	std::size_t failed_step = 0;  ///< the step k whose processing threw
+	std::string failure;          ///< one line
+};
+
+/** Everything a run produced. */
+struct RunReport
+{
+	std::string rawlog, ground_truth;  ///< ground_truth "" = none found (no APE)
+	std::size_t steps = 0;             ///< steps run
+	std::size_t distinct_landmarks = 0, readings = 0, skipped_readings = 0;
+	std::vector<RunRow> rows;
+	std::vector<std::string> files;    ///< files written (full paths), in writing order
+	std::vector<std::string> notes;    ///< one line each (plot notes, reader warnings, …)
+};
+
+/** `<dir>/<name>_ground_truth_robot_path.txt` for `<dir>/<name>.rawlog` (mrpt-common's naming). */
+std::string default_ground_truth_path(const std::string& rawlog_path);
+
+/** Reads the MRPT ground-truth robot path and checks it has at least steps + 1 rows (row k + 1 pairs
+ * with the estimate after step k). Throws std::runtime_error naming the file. */
+std::vector<mrpt::poses::CPose3D> read_ground_truth_for(const std::string& path, std::size_t steps);
+
+/** The ground truth as a TUM trajectory: row i at t = i. */
+eval::Trajectory ground_truth_trajectory(const std::vector<mrpt::poses::CPose3D>& rows);
+
+/** The reference paired with `estimate` pose by pose: for the estimate at t = k + 1, GT row k + 1.
+ * Throws std::runtime_error when a stamp is not a whole number ≥ 1 or its row does not exist. */
+eval::Trajectory paired_ground_truth(const std::vector<mrpt::poses::CPose3D>& rows, const eval::Trajectory& estimate);
+
+/** APE (not aligned) of `estimate` against the paired ground truth: {translation part, full transformation}. */
+std::pair<eval::Statistics, eval::Statistics> ape_against_ground_truth(
+	const std::vector<mrpt::poses::CPose3D>& rows, const eval::Trajectory& estimate);
+
+/** Runs every estimator the options ask for on `rawlog` (already read) and fills the rows; APE when
+ * `ground_truth` is not empty. Progress lines go to `log` (when options.progress). Writes no file. */
+RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
+						 const std::vector<mrpt::poses::CPose3D>& ground_truth, std::ostream& log);
+
+/** The comparison table (one row per estimator; failures with their step and message). */
+std::string format_comparison_table(const RunReport& report);
+/** ape.txt: per estimator a header line and evo's two blocks (translation part, full transformation). */
+std::string format_ape_text(const RunReport& report);
+/** ape.csv: header + one row per estimator (translation and full-transformation statistics). */
+std::string format_ape_csv(const RunReport& report);
+/** summary.json (see doc/run.md for the shape). */
+std::string format_summary_json(const RunReport& report);
+
+/** Writes the output directory (TUM files, ape.txt, ape.csv, summary.json, config.ini, plots) and
+ * records the paths in report.files. Throws std::runtime_error naming a path that cannot be written. */
+void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& ground_truth,
+					   RunReport& report, std::ostream& log);
+
+/** The whole `swba run`: reads the rawlog (options.rawlog must be set) and the ground truth, runs,
+ * prints the table to `out`, writes the files; notes and progress go to `log`. Throws on bad input
+ * (one-line messages naming the file/option). */
+RunReport run_app(const RunOptions& options, std::ostream& out, std::ostream& log);
+}  // namespace swba::estimators

@@ -1,0 +1,103 @@
+/** \file run_config.h
+ * Options of `swba run` (swba::estimators::RunOptions) and their INI file, in MRPT's
+ * CLoadableOptions style (sections [run], [window], [solver], [ekf], [sensor], [odometry]; read with
+ * mrpt::config::CConfigFile) — but, unlike MRPT, an unknown or misspelt section or key is an error
+ * that lists the known ones, and a value that does not parse completely is an error naming the key.
+ * share/config/swba_run.ini documents every key with its unit and default.
+ *
+ * Precedence: built-in defaults < INI file (load_run_config) < command line (the app sets only the
+ * options given on it). */
+#pragma once
+
+#include <swba/estimators/sliding_window.h>
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace swba::estimators
+{
+/** Everything `swba run` does. Defaults are those of share/config/swba_run.ini. */
+struct RunOptions
+{
+	/** Rawlog to run on. "" = the default dataset (the app fills in kf-slam_6D_demo.rawlog). */
+	std::string rawlog;
+	/** MRPT ground-truth robot path (`x y z yaw pitch roll` per row). "" = `<rawlog name>_ground_truth_robot_path.txt`
+	 * next to the rawlog if it exists, else no APE. */
+	std::string ground_truth;
+	/** Output directory (created). Default "swba_out". */
+	std::string out_dir = "swba_out";
+	/** Window sizes W (each ≥ 2). Default {5, 10, 20, 30}. */
+	std::vector<int> windows = {5, 10, 20, 30};
+	/** Landmark policies to run (each gives its own rows). Default {Slam}. */
+	std::vector<LandmarkPolicy> policies = {LandmarkPolicy::Slam};
+	/** First-estimate Jacobians on/off (each value gives its own rows). Default {true}. */
+	std::vector<bool> fej = {true};
+	/** Run MRPT's EKF (each method in ekf_methods). Default true. */
+	bool run_ekf = true;
+	/** MRPT Kalman-filter methods (kfEKFNaive, kfEKFAlaDavison, kfIKFFull, kfIKF). Default {kfEKFAlaDavison, kfEKFNaive}. */
+	std::vector<std::string> ekf_methods = {"kfEKFAlaDavison", "kfEKFNaive"};
+	/** Optional kf-slam INI for the EKF's other options (its std_sensor_* are overridden by `window.sensor_std_*`
+	 * when those are set). Default "" (MRPT's defaults). */
+	std::string ekf_ini;
+	/** Run the batch estimator (window = ∞). Default true. */
+	bool run_batch = true;
+	/** LM iteration limit of the batch solve. Default 100. */
+	int batch_max_iterations = 100;
+	/** Also run the full-history causal optimum ("online, W = ∞"; O(steps²)). Default false. */
+	bool run_causal = false;
+	/** Process at most this many steps (0 = all). Default 0. */
+	std::size_t max_steps = 0;
+	/** Threads of the solver's evaluation/assembly. Default 1. */
+	int threads = 1;
+	/** Write gnuplot plots when gnuplot is found. Default true. */
+	bool plots = true;
+	/** Progress lines on stderr for estimators running longer than a second. Default true. */
+	bool progress = true;
+	/** The window/batch options (window_size and policy/fej are taken from the lists above for each run;
+	 * sensor_std_* ≤ 0 = the observation's own noise, also given to the EKF). */
+	SlidingWindowOptions window;
+
+	/** Throws std::invalid_argument with a one-line reason naming the option. */
+	void validate() const;
+};
+
+/** One INI key: where it lives, its unit and meaning, how it sets and reads a RunOptions. */
+struct RunConfigKey
+{
+	std::string section, key, unit, meaning;
+	/** Parses the value (throws std::invalid_argument with the reason) and stores it. */
+	std::function<void(const std::string&, RunOptions&)> set;
+	/** The option's value as the INI would write it. */
+	std::function<std::string(const RunOptions&)> get;
+};
+/** All keys, in file order. */
+const std::vector<RunConfigKey>& run_config_key_table();
+/** The options as an INI file (every key, current values) — written to DIR/config.ini. */
+std::string format_run_config(const RunOptions& options);
+
+/** Every INI key as "section.key" with its unit, meaning and default, in file order (what the
+ * error message for an unknown key lists, and what share/config/swba_run.ini documents). */
+const std::vector<std::string>& run_config_keys();
+
+/** Loads the INI file `path` over `options` (keys not in the file keep their value). Throws
+ * std::runtime_error "config '<path>': …" on a missing file, an unknown section or key (listing the
+ * known keys of that section, or the known sections), or a value that does not parse (naming
+ * [section] key and the value). */
+void load_run_config(const std::string& path, RunOptions& options);
+/** As load_run_config(path, …) from INI text; `source_name` is used in messages. */
+void load_run_config_text(const std::string& text, const std::string& source_name, RunOptions& options);
+
+/** "5,10,20" → {5, 10, 20}. Throws std::invalid_argument naming `what` on an empty list, a
+ * non-integer or a window < 2. */
+std::vector<int> parse_window_list(const std::string& text, const std::string& what = "windows");
+/** "slam" | "constant-time" | "both". */
+std::vector<LandmarkPolicy> parse_policy_list(const std::string& text);
+/** "on" | "off" | "both" (also true/false/1/0). */
+std::vector<bool> parse_fej_list(const std::string& text);
+/** "kfEKFNaive,kfEKFAlaDavison" (each checked with ekf_method_from_name; numbers mapped to names). */
+std::vector<std::string> parse_ekf_method_list(const std::string& text);
+/** Comma-separated items, trimmed; empty items are an error. */
+std::vector<std::string> split_list(const std::string& text, const std::string& what);
+}  // namespace swba::estimators

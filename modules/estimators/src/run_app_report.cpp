@@ -1,0 +1,271 @@
+// swba run: the comparison table, ape.txt / ape.csv / summary.json, TUM files and plots.
+#include <swba/estimators/run_app.h>
+#include <swba/eval/evaluation.h>
+#include <swba/eval/plot.h>
+#include <swba/eval/report.h>
+
+#include <mrpt/system/filesystem.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+namespace swba::estimators
+{
+namespace
+{
+std::string fixed(double v, int decimals)
+{
+	char buf[64];
+	std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
+	return buf;
+}
+
+std::string pad_right(const std::string& s, std::size_t w) { return s.size() >= w ? s : s + std::string(w - s.size(), ' '); }
+std::string pad_left(const std::string& s, std::size_t w) { return s.size() >= w ? s : std::string(w - s.size(), ' ') + s; }
+
+std::string csv_field(const std::string& s)
+{
+	if (s.find_first_of(",\"\n") == std::string::npos) return s;
+	std::string q = "\"";
+	for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+	return q + "\"";
+}
+
+/** The seven statistics in the issue's order. */
+const std::vector<std::pair<const char*, double eval::Statistics::*>>& stat_fields()
+{
+	static const std::vector<std::pair<const char*, double eval::Statistics::*>> f = {
+		{"rmse", &eval::Statistics::rmse}, {"mean", &eval::Statistics::mean}, {"median", &eval::Statistics::median},
+		{"max", &eval::Statistics::max},   {"min", &eval::Statistics::min},	  {"sse", &eval::Statistics::sse},
+		{"std", &eval::Statistics::std}};
+	return f;
+}
+
+std::string stats_json(const eval::Statistics& s)
+{
+	std::string j = "{";
+	bool first = true;
+	for (const auto& [name, field] : stat_fields())
+	{
+		j += std::string(first ? "" : ", ") + eval::json_string(name) + ": " + eval::json_number(s.*field);
+		first = false;
+	}
+	return j + "}";
+}
+
+void write_text_file(const std::string& path, const std::string& text, RunReport& report)
+{
+	std::ofstream f(path);
+	if (!f) throw std::runtime_error("cannot write '" + path + "'");
+	f << text;
+	if (!f) throw std::runtime_error("cannot write '" + path + "'");
+	report.files.push_back(path);
+}
+}  // namespace
+
+std::string format_comparison_table(const RunReport& report)
+{
+	std::size_t wl = std::string("estimator").size();
+	for (const auto& r : report.rows) wl = std::max(wl, r.label.size());
+	std::ostringstream s;
+	s << "swba run: " << report.rawlog << " (" << report.steps << " steps)";
+	if (report.ground_truth.empty()) s << ", no ground truth: APE not computed";
+	s << "\nAPE not aligned; estimate after step k vs ground-truth row k+1\n";
+	const std::size_t cw = 11;
+	s << pad_right("estimator", wl) << pad_left("W", 5) << "  " << pad_right("trajectory", 11)
+	  << pad_left("trans rmse", cw) << pad_left("trans mean", cw) << pad_left("trans med", cw)
+	  << pad_left("trans max", cw) << pad_left("full rmse", cw) << pad_left("ms/step", 10) << "\n";
+	s << std::string(wl + 5 + 2 + 11 + 5 * cw + 10, '-') << "\n";
+	for (const auto& r : report.rows)
+	{
+		s << pad_right(r.label, wl) << pad_left(r.window ? std::to_string(r.window) : "-", 5) << "  "
+		  << pad_right(r.trajectory, 11);
+		if (r.has_ape)
+			s << pad_left(fixed(r.ape_trans.rmse, 6), cw) << pad_left(fixed(r.ape_trans.mean, 6), cw)
+			  << pad_left(fixed(r.ape_trans.median, 6), cw) << pad_left(fixed(r.ape_trans.max, 6), cw)
+			  << pad_left(fixed(r.ape_full.rmse, 6), cw);
+		else
+			for (int i = 0; i < 5; i++) s << pad_left("-", cw);
+		s << pad_left(fixed(r.ms_per_step, 3), 10);
+		if (r.failed) s << "  FAILED at step " << r.failed_step << ": " << r.failure;
+		s << "\n";
+	}
+	return s.str();
+}
+
+std::string format_ape_text(const RunReport& report)
+{
+	std::ostringstream s;
+	const std::string not_aligned = "\n(not aligned)";
+	for (const auto& r : report.rows)
+	{
+		s << "=== " << r.label << " (" << r.trajectory << ")";
+		if (!r.file.empty()) s << ": " << r.file;
+		s << "\n";
+		if (r.failed) s << "FAILED at step " << r.failed_step << ": " << r.failure << "\n";
+		if (!r.has_ape)
+		{
+			s << "(no APE)\n\n";
+			continue;
+		}
+		s << eval::format_statistics_text(eval::ape_metric_title(eval::PoseRelation::TranslationPart) + not_aligned,
+										  r.ape_trans)
+		  << "\n";
+		s << eval::format_statistics_text(eval::ape_metric_title(eval::PoseRelation::FullTransformation) + not_aligned,
+										  r.ape_full)
+		  << "\n";
+	}
+	return s.str();
+}
+
+std::string format_ape_csv(const RunReport& report)
+{
+	std::ostringstream s;
+	s << "label,name,window,trajectory,policy,fej,method,failed,failed_step,poses";
+	for (const char* part : {"trans", "full"})
+		for (const auto& [name, field] : stat_fields()) s << "," << part << "_" << name;
+	s << ",seconds,ms_per_step\n";
+	char buf[64];
+	auto num = [&buf](double v) {
+		std::snprintf(buf, sizeof(buf), "%.9g", v);
+		return std::string(buf);
+	};
+	for (const auto& r : report.rows)
+	{
+		s << csv_field(r.label) << "," << r.name << "," << (r.window ? std::to_string(r.window) : "") << ","
+		  << r.trajectory << "," << r.policy << "," << (r.fej ? (*r.fej ? "on" : "off") : "") << "," << r.method << ","
+		  << (r.failed ? "true" : "false") << "," << (r.failed ? std::to_string(r.failed_step) : "") << ","
+		  << r.estimate.size();
+		for (const eval::Statistics* st : {&r.ape_trans, &r.ape_full})
+			for (const auto& f : stat_fields()) s << "," << (r.has_ape ? num((*st).*(f.second)) : "");
+		s << "," << num(r.seconds) << "," << num(r.ms_per_step) << "\n";
+	}
+	return s.str();
+}
+
+std::string format_summary_json(const RunReport& report)
+{
+	using eval::json_number;
+	using eval::json_string;
+	std::ostringstream s;
+	s << "{\n  \"rawlog\": " << json_string(report.rawlog) << ",\n";
+	s << "  \"ground_truth\": " << (report.ground_truth.empty() ? "null" : json_string(report.ground_truth)) << ",\n";
+	s << "  \"steps\": " << report.steps << ",\n";
+	s << "  \"landmarks\": " << report.distinct_landmarks << ",\n";
+	s << "  \"estimators\": [";
+	for (std::size_t i = 0; i < report.rows.size(); i++)
+	{
+		const auto& r = report.rows[i];
+		s << (i ? "," : "") << "\n    {";
+		s << "\"name\": " << json_string(r.name);
+		s << ", \"label\": " << json_string(r.label);
+		s << ", \"window\": " << (r.window ? std::to_string(r.window) : "null");
+		s << ", \"trajectory\": " << json_string(r.trajectory);
+		s << ", \"policy\": " << (r.policy.empty() ? "null" : json_string(r.policy));
+		s << ", \"fej\": " << (r.fej ? (*r.fej ? "true" : "false") : "null");
+		s << ", \"method\": " << (r.method.empty() ? "null" : json_string(r.method));
+		s << ", \"file\": " << (r.file.empty() ? "null" : json_string(r.file));
+		s << ", \"poses\": " << r.estimate.size();
+		s << ",\n     \"ape_trans\": " << (r.has_ape ? stats_json(r.ape_trans) : "null");
+		s << ",\n     \"ape_full\": " << (r.has_ape ? stats_json(r.ape_full) : "null");
+		s << ",\n     \"seconds\": " << json_number(r.seconds) << ", \"ms_per_step\": " << json_number(r.ms_per_step);
+		s << ", \"steps_processed\": " << r.steps;
+		s << ", \"failed\": " << (r.failed ? "true" : "false");
+		s << ", \"failed_step\": " << (r.failed ? std::to_string(r.failed_step) : "null");
+		s << ", \"failure\": " << (r.failed ? json_string(r.failure) : "null") << "}";
+	}
+	s << "\n  ]\n}\n";
+	return s.str();
+}
+
+void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& gt, RunReport& report,
+					   std::ostream& log)
+{
+	const std::string& dir = options.out_dir;
+	std::error_code ec;
+	std::filesystem::create_directories(dir, ec);
+	if (ec || !std::filesystem::is_directory(dir))
+		throw std::runtime_error("cannot create output directory '" + dir + "'" + (ec ? ": " + ec.message() : ""));
+	auto path = [&dir](const std::string& f) { return dir + "/" + f; };
+
+	if (!gt.empty())
+	{
+		// Rows 0..steps: what the estimates are compared with.
+		std::vector<mrpt::poses::CPose3D> used(gt.begin(), gt.begin() + static_cast<std::ptrdiff_t>(
+																			 std::min(gt.size(), report.steps + 1)));
+		eval::write_tum(path("gt.tum"), ground_truth_trajectory(used));
+		report.files.push_back(path("gt.tum"));
+	}
+	for (const auto& r : report.rows)
+		if (!r.file.empty() && (!r.estimate.empty() || !r.failed))
+		{
+			eval::write_tum(path(r.file), r.estimate);
+			report.files.push_back(path(r.file));
+		}
+	write_text_file(path("ape.txt"), format_ape_text(report), report);
+	write_text_file(path("ape.csv"), format_ape_csv(report), report);
+	write_text_file(path("summary.json"), format_summary_json(report), report);
+	write_text_file(path("config.ini"),
+					"# swba run: the options of this run (load with --config)\n" + format_run_config(options), report);
+
+	if (!options.plots || gt.empty()) return;
+	eval::PlotOptions po;
+	if (eval::find_gnuplot(po).empty())
+	{
+		report.notes.push_back("gnuplot not found: no plots");
+		return;
+	}
+	// Top view: ground truth, each EKF, the largest window (online, first configuration), batch.
+	std::vector<eval::LabelledTrajectory> shown;
+	const RunRow* widest = nullptr;
+	for (const auto& r : report.rows)
+		if (r.name == "window" && r.trajectory == "online" && !r.failed && (!widest || r.window > widest->window))
+			widest = &r;
+	for (const auto& r : report.rows)
+		if (!r.estimate.empty() && (r.name == "ekf" || r.name == "batch" || &r == widest))
+			shown.push_back({r.label, r.estimate});
+	auto add_files = [&](const eval::PlotOutput& o) {
+		for (const auto& f : o.files) report.files.push_back(f);
+		if (!o.note.empty()) report.notes.push_back(o.note);
+	};
+	add_files(eval::plot_trajectories_top_view(dir, "trajectories", {"ground truth", ground_truth_trajectory(gt)},
+											   shown, "trajectories (top view): " + mrpt::system::extractFileName(report.rawlog),
+											   po));
+
+	// APE rmse vs W: one series per (policy, FEJ, online/lagged); EKF, batch, causal as reference lines.
+	std::map<std::string, eval::PlotSeries> series;
+	std::vector<std::string> order;
+	std::vector<eval::ReferenceLine> refs;
+	for (const auto& r : report.rows)
+	{
+		if (!r.has_ape) continue;
+		if (r.name == "window")
+		{
+			std::string key = "window " + r.trajectory;
+			if (options.policies.size() * options.fej.size() > 1)
+				key += std::string(" ") + r.policy + " " + (r.fej && *r.fej ? "fej" : "nofej");
+			if (!series.count(key)) order.push_back(key);
+			auto& sr = series[key];
+			sr.label = key;
+			sr.x.push_back(r.window);
+			sr.y.push_back(r.ape_trans.rmse);
+		}
+		else
+			refs.push_back({r.label, r.ape_trans.rmse});
+	}
+	if (!order.empty())
+	{
+		std::vector<eval::PlotSeries> ordered;
+		for (const auto& k : order) ordered.push_back(series[k]);
+		add_files(eval::plot_rmse_vs_window(dir, "ape_rmse_vs_window", ordered, refs,
+											"APE rmse vs window size: " + mrpt::system::extractFileName(report.rawlog),
+											"APE translation rmse (m)", po));
+	}
+	(void)log;
+}
+}  // namespace swba::estimators

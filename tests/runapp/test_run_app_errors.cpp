@@ -1,0 +1,200 @@
+// swba run on bad input (through run_app, what the command calls): one-line errors naming the file,
+// and single bad readings counted, never a crash.
+#include <swba/estimators/run_app.h>
+
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
+#include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+
+namespace
+{
+namespace fs = std::filesystem;
+using swba::estimators::RunOptions;
+
+fs::path temp_dir()
+{
+	const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+	fs::path d = fs::temp_directory_path() / (std::string("swba_runapp_") + info->test_suite_name() + "_" + info->name());
+	fs::remove_all(d);
+	fs::create_directories(d);
+	return d;
+}
+
+/** A small rawlog SF0, AC0, SF1, ...: the robot moves 0.3 m forward per step (noise-free) and sees 4
+ * fixed landmarks ahead of it; `nan_reading_step` ≥ 0 gives one reading of that frame a NaN range. */
+struct Synth
+{
+	int steps = 8;
+	bool odometry = true;
+	bool bearing_range = true;
+	int nan_reading_step = -1;
+};
+
+void write_synth(const std::string& path, const Synth& so)
+{
+	mrpt::io::CFileGZOutputStream out(path);
+	auto arch = mrpt::serialization::archiveFrom(out);
+	const double landmarks[4][3] = {{4, 1, 0.5}, {5, -1, -0.3}, {6, 0.5, 1}, {7, -0.5, 0}};
+	for (int i = 0; i <= so.steps; i++)
+	{
+		const mrpt::poses::CPose3D robot(0.3 * i, 0, 0, 0, 0, 0);
+		mrpt::obs::CSensoryFrame sf;
+		if (so.bearing_range)
+		{
+			auto obs = mrpt::obs::CObservationBearingRange::Create();
+			obs->sensor_std_range = 0.01f;
+			obs->sensor_std_yaw = 0.002f;
+			obs->sensor_std_pitch = 0.002f;
+			for (int j = 0; j < 4; j++)
+			{
+				const auto l = robot.inverseComposePoint(
+					mrpt::math::TPoint3D(landmarks[j][0], landmarks[j][1], landmarks[j][2]));
+				mrpt::obs::CObservationBearingRange::TMeasurement m;
+				m.landmarkID = j;
+				m.range = static_cast<float>(l.norm());
+				m.yaw = static_cast<float>(std::atan2(l.y, l.x));
+				m.pitch = static_cast<float>(-std::asin(l.z / l.norm()));
+				if (i == so.nan_reading_step && j == 2) m.range = std::numeric_limits<float>::quiet_NaN();
+				obs->sensedData.push_back(m);
+			}
+			sf.insert(obs);
+		}
+		arch << sf;
+		mrpt::obs::CActionCollection acts;
+		if (so.odometry)
+		{
+			mrpt::obs::CActionRobotMovement3D act;
+			act.poseChange.mean = mrpt::poses::CPose3D(0.3, 0, 0, 0, 0, 0);
+			act.poseChange.cov.setIdentity();
+			act.poseChange.cov *= 1e-4;
+			acts.insert(act);
+		}
+		arch << acts;
+	}
+}
+
+std::string run_error(const RunOptions& o)
+{
+	std::ostringstream out, log;
+	try
+	{
+		swba::estimators::run_app(o, out, log);
+	}
+	catch (const std::exception& e)
+	{
+		return e.what();
+	}
+	ADD_FAILURE() << "no error for rawlog " << o.rawlog;
+	return {};
+}
+
+RunOptions quick_options(const fs::path& dir, const std::string& rawlog)
+{
+	RunOptions o;
+	o.rawlog = rawlog;
+	o.out_dir = (dir / "out").string();
+	o.windows = {3};
+	o.plots = false;
+	o.progress = false;
+	return o;
+}
+}  // namespace
+
+TEST(RunAppErrors, MissingRawlogNamesTheFile)
+{
+	const auto d = temp_dir();
+	const std::string msg = run_error(quick_options(d, (d / "none.rawlog").string()));
+	EXPECT_NE(msg.find((d / "none.rawlog").string()), std::string::npos) << msg;
+	EXPECT_NE(msg.find("does not exist"), std::string::npos) << msg;
+	EXPECT_FALSE(fs::exists(d / "out")) << "nothing is written on bad input";
+}
+
+TEST(RunAppErrors, TruncatedRawlog)
+{
+	const auto d = temp_dir();
+	std::ifstream in(std::string(SWBA_MRPT_DATASETS) + "/kf-slam_6D_demo.rawlog", std::ios::binary);
+	const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+	ASSERT_GT(bytes.size(), 1000u);
+	const std::string path = (d / "cut.rawlog").string();
+	{
+		std::ofstream out(path, std::ios::binary);
+		out.write(bytes.data(), std::streamsize(bytes.size() / 2));
+	}
+	const std::string msg = run_error(quick_options(d, path));
+	EXPECT_NE(msg.find(path), std::string::npos) << msg;
+	EXPECT_NE(msg.find("truncated"), std::string::npos) << msg;
+	EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
+}
+
+TEST(RunAppErrors, RawlogWithoutOdometry)
+{
+	const auto d = temp_dir();
+	const std::string path = (d / "noodo.rawlog").string();
+	Synth so;
+	so.odometry = false;
+	write_synth(path, so);
+	const std::string msg = run_error(quick_options(d, path));
+	EXPECT_NE(msg.find(path), std::string::npos) << msg;
+	EXPECT_NE(msg.find("no odometry"), std::string::npos) << msg;
+}
+
+TEST(RunAppErrors, RawlogWithoutBearingRange)
+{
+	const auto d = temp_dir();
+	const std::string path = (d / "noobs.rawlog").string();
+	Synth so;
+	so.bearing_range = false;
+	write_synth(path, so);
+	const std::string msg = run_error(quick_options(d, path));
+	EXPECT_NE(msg.find(path), std::string::npos) << msg;
+	EXPECT_NE(msg.find("no valid bearing-range observation"), std::string::npos) << msg;
+}
+
+TEST(RunAppErrors, WindowBelowTwoRejectedBeforeReading)
+{
+	const auto d = temp_dir();
+	RunOptions o = quick_options(d, (d / "none.rawlog").string());
+	o.windows = {5, 1};
+	const std::string msg = run_error(o);
+	EXPECT_NE(msg.find("window size must be >= 2, got 1"), std::string::npos) << msg;
+}
+
+TEST(RunAppErrors, NanReadingIsCountedAndTheRunCompletes)
+{
+	const auto d = temp_dir();
+	const std::string path = (d / "nan.rawlog").string();
+	Synth so;
+	so.nan_reading_step = 4;
+	write_synth(path, so);
+	RunOptions o = quick_options(d, path);  // no ground truth next to it: no APE, still a table
+	std::ostringstream out, log;
+	const auto report = swba::estimators::run_app(o, out, log);
+	EXPECT_EQ(report.steps, 8u);
+	EXPECT_EQ(report.skipped_readings, 1u);
+	EXPECT_NE(log.str().find("warning: "), std::string::npos) << log.str();
+	EXPECT_NE(log.str().find("no ground truth"), std::string::npos) << log.str();
+	ASSERT_EQ(report.rows.size(), 2u + 2u + 1u);  // 2 EKF, window online + lagged, batch
+	for (const auto& r : report.rows)
+	{
+		EXPECT_FALSE(r.failed) << r.label << ": " << r.failure;
+		EXPECT_FALSE(r.has_ape);
+		EXPECT_EQ(r.estimate.size(), 8u) << r.label;
+	}
+	EXPECT_NE(out.str().find("no ground truth: APE not computed"), std::string::npos) << out.str();
+	EXPECT_TRUE(fs::exists(d / "out" / "summary.json"));
+	EXPECT_FALSE(fs::exists(d / "out" / "gt.tum"));
+	// The estimates follow the true motion: 0.3 m per step along x.
+	const auto& batch = report.rows.back();
+	ASSERT_EQ(batch.name, "batch");
+	EXPECT_NEAR(batch.estimate.poses.back().x(), 0.3 * 8, 1e-3);
+}

@@ -1,0 +1,217 @@
+// swba run options: INI loading (strict keys, values, comments), list parsing, the default INI file.
+#include <swba/estimators/run_config.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace
+{
+using swba::estimators::LandmarkPolicy;
+using swba::estimators::load_run_config;
+using swba::estimators::load_run_config_text;
+using swba::estimators::RunOptions;
+
+const std::string kDefaultIni = std::string(SWBA_SHARE_DIR) + "/config/swba_run.ini";
+
+std::string load_error(const std::string& text)
+{
+	RunOptions o;
+	try
+	{
+		load_run_config_text(text, "test.ini", o);
+	}
+	catch (const std::runtime_error& e)
+	{
+		return e.what();
+	}
+	ADD_FAILURE() << "no error for:\n" << text;
+	return {};
+}
+
+/** An INI setting every key to a value different from its default. */
+std::string non_default_ini()
+{
+	return "[run]\nrawlog = a.rawlog\nground_truth = a_gt.txt\nout_dir = elsewhere\nmax_steps = 7\nthreads = 2\n"
+		   "batch = false\nbatch_max_iterations = 3\ncausal = true\nplots = false\nprogress = false\n"
+		   "[window]\nsizes = 3,4\npolicy = both\nfej = off\nlandmarks = xyz\ngauge = prior\ngauge_prior_weight = 5\n"
+		   "marginalization_threshold = 0.5\n"
+		   "[solver]\nmax_iterations = 4\nfunction_tolerance = 0.5\ngradient_tolerance = 0.25\n"
+		   "parameter_tolerance = 0.125\nlinear_solver = dense-normal\ndense_max_dim = 9\n"
+		   "[ekf]\nenabled = false\nmethods = kfIKF\nini_file = x.ini\n"
+		   "[sensor]\nstd_range_m = 0.5\nstd_yaw_deg = 2\nstd_pitch_deg = 3\n"
+		   "[odometry]\nmin_sigma_translation_m = 0.5\nmin_sigma_rotation_rad = 0.25\n";
+}
+}  // namespace
+
+TEST(RunConfig, NonDefaultIniSetsEveryKey)
+{
+	RunOptions o;
+	load_run_config_text(non_default_ini(), "nd.ini", o);
+	const RunOptions d;
+	// Every key's value differs from its default after loading: the table covers every key set above.
+	for (const auto& k : swba::estimators::run_config_key_table())
+		EXPECT_NE(k.get(o), k.get(d)) << "[" << k.section << "] " << k.key << " not set by the INI";
+	EXPECT_EQ(o.windows, (std::vector<int>{3, 4}));
+	EXPECT_EQ(o.policies.size(), 2u);
+	EXPECT_EQ(o.fej, std::vector<bool>{false});
+	EXPECT_EQ(o.max_steps, 7u);
+	EXPECT_FALSE(o.run_batch);
+	EXPECT_TRUE(o.run_causal);
+	EXPECT_EQ(o.ekf_methods, std::vector<std::string>{"kfIKF"});
+	EXPECT_EQ(o.window.solver.max_iterations, 4);
+	EXPECT_NEAR(o.window.sensor_std_yaw, 2.0 * M_PI / 180.0, 1e-15);
+	EXPECT_DOUBLE_EQ(o.window.sensor_std_range, 0.5);
+	EXPECT_DOUBLE_EQ(o.window.odometry.min_sigma_rotation, 0.25);
+}
+
+TEST(RunConfig, DefaultIniHoldsTheBuiltInDefaults)
+{
+	// Start from options that differ everywhere, load the shipped INI: every key must come back to
+	// its built-in default (so the file names every key, with the default value).
+	RunOptions o;
+	load_run_config_text(non_default_ini(), "nd.ini", o);
+	load_run_config(kDefaultIni, o);
+	EXPECT_EQ(swba::estimators::format_run_config(o), swba::estimators::format_run_config(RunOptions{}));
+}
+
+TEST(RunConfig, DefaultIniDocumentsEveryKeyWithItsDefault)
+{
+	std::ifstream f(kDefaultIni);
+	ASSERT_TRUE(f) << kDefaultIni;
+	std::stringstream ss;
+	ss << f.rdbuf();
+	const std::string text = ss.str();
+	const RunOptions d;
+	for (const auto& k : swba::estimators::run_config_key_table())
+	{
+		const std::string line = "\n" + k.key + " =";
+		const auto at = text.find(line);
+		ASSERT_NE(at, std::string::npos) << k.key;
+		// The comment just above the key states "(Default=<value>)".
+		const auto comment_start = text.rfind("\n[", at) == std::string::npos ? 0 : text.rfind("\n[", at);
+		const auto prev_key = text.rfind(" = ", at - 1);
+		const auto from = std::max(comment_start, prev_key == std::string::npos ? 0 : prev_key);
+		const std::string doc = text.substr(from, at - from);
+		EXPECT_NE(doc.find("(Default=" + k.get(d) + ")"), std::string::npos)
+			<< "[" << k.section << "] " << k.key << ": no '(Default=" << k.get(d) << ")' in its comment:\n"
+			<< doc;
+	}
+	// The error-message key list states the same defaults.
+	for (const auto& line : swba::estimators::run_config_keys()) EXPECT_NE(line.find("(Default="), std::string::npos);
+}
+
+TEST(RunConfig, UnknownKeyIsAnErrorListingTheKnownKeys)
+{
+	const std::string msg = load_error("[window]\nsize = 5\n");
+	EXPECT_NE(msg.find("test.ini"), std::string::npos) << msg;
+	EXPECT_NE(msg.find("unknown key 'size' in section [window]"), std::string::npos) << msg;
+	EXPECT_NE(msg.find("known keys: sizes, policy, fej, landmarks"), std::string::npos) << msg;
+}
+
+TEST(RunConfig, UnknownSectionIsAnError)
+{
+	const std::string msg = load_error("[windows]\nsizes = 5\n");
+	EXPECT_NE(msg.find("unknown section [windows]"), std::string::npos) << msg;
+	EXPECT_NE(msg.find("known sections: run, window, solver, ekf, sensor, odometry"), std::string::npos) << msg;
+}
+
+TEST(RunConfig, BadValuesNameTheKey)
+{
+	struct Case
+	{
+		std::string ini, expected;
+	};
+	for (const Case& c : std::vector<Case>{
+			 {"[solver]\nmax_iterations = 10x\n", "[solver] max_iterations: '10x' is not an integer"},
+			 {"[solver]\nmax_iterations = 0\n", "[solver] max_iterations: '0' must be an integer >= 1"},
+			 {"[window]\nsizes = 1,5\n", "[window] sizes: sizes: window size must be >= 2, got 1"},
+			 {"[window]\npolicy = fast\n", "[window] policy: unknown policy 'fast'"},
+			 {"[window]\nfej = maybe\n", "[window] fej: unknown fej value 'maybe'"},
+			 {"[window]\ngauge = loose\n", "[window] gauge: unknown gauge 'loose'"},
+			 {"[run]\nbatch = perhaps\n", "[run] batch: 'perhaps' is not a boolean"},
+			 {"[ekf]\nmethods = kfEKFNaive,kfFoo\n", "[ekf] methods: unknown EKF method 'kfFoo'"},
+			 {"[sensor]\nstd_range_m = -1\n", "[sensor] std_range_m: '-1' must be >= 0"},
+			 {"[sensor]\nstd_yaw_deg = nan\n", "[sensor] std_yaw_deg: 'nan' is not finite"},
+			 {"[solver]\nlinear_solver = magic\n", "[solver] linear_solver:"},
+		 })
+	{
+		const std::string msg = load_error(c.ini);
+		EXPECT_NE(msg.find(c.expected), std::string::npos) << "INI:\n" << c.ini << "message: " << msg;
+		EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
+	}
+}
+
+TEST(RunConfig, CommentsAndLaterFilesWin)
+{
+	RunOptions o;
+	load_run_config_text("# comment\n; other comment\n[window]\nsizes = 5, 10 // two windows\n", "a.ini", o);
+	EXPECT_EQ(o.windows, (std::vector<int>{5, 10}));
+	EXPECT_EQ(o.policies, std::vector<LandmarkPolicy>{LandmarkPolicy::Slam});  // untouched keys keep their value
+	load_run_config_text("[window]\nsizes = 20\npolicy = constant-time\n", "b.ini", o);
+	EXPECT_EQ(o.windows, (std::vector<int>{20}));
+	EXPECT_EQ(o.policies, std::vector<LandmarkPolicy>{LandmarkPolicy::ConstantTime});
+}
+
+TEST(RunConfig, MissingFileIsAnError)
+{
+	RunOptions o;
+	try
+	{
+		load_run_config("/nonexistent/run.ini", o);
+		FAIL() << "no error";
+	}
+	catch (const std::runtime_error& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("config '/nonexistent/run.ini': file does not exist"), std::string::npos)
+			<< e.what();
+	}
+}
+
+TEST(RunConfig, ListParsing)
+{
+	using namespace swba::estimators;
+	EXPECT_EQ(parse_window_list("5,10,20,30"), (std::vector<int>{5, 10, 20, 30}));
+	EXPECT_EQ(parse_window_list(" 7 , 7,3"), (std::vector<int>{7, 3}));  // duplicates dropped
+	EXPECT_THROW(parse_window_list("5,,10"), std::invalid_argument);
+	EXPECT_THROW(parse_window_list("5,"), std::invalid_argument);
+	EXPECT_THROW(parse_window_list(""), std::invalid_argument);
+	EXPECT_THROW(parse_window_list("5,x"), std::invalid_argument);
+	EXPECT_THROW(parse_window_list("2.5"), std::invalid_argument);
+	try
+	{
+		parse_window_list("1", "--windows");
+		FAIL();
+	}
+	catch (const std::invalid_argument& e)
+	{
+		EXPECT_STREQ(e.what(), "--windows: window size must be >= 2, got 1");
+	}
+	EXPECT_EQ(parse_policy_list("both").size(), 2u);
+	EXPECT_EQ(parse_policy_list("constant-time"), std::vector<LandmarkPolicy>{LandmarkPolicy::ConstantTime});
+	EXPECT_THROW(parse_policy_list("slam,constant-time"), std::invalid_argument);
+	EXPECT_EQ(parse_fej_list("both"), (std::vector<bool>{true, false}));
+	EXPECT_EQ(parse_fej_list("off"), std::vector<bool>{false});
+	EXPECT_THROW(parse_fej_list("sometimes"), std::invalid_argument);
+	EXPECT_EQ(parse_ekf_method_list("0,kfEKFAlaDavison,kfEKFNaive"),
+			  (std::vector<std::string>{"kfEKFNaive", "kfEKFAlaDavison"}));
+	EXPECT_THROW(parse_ekf_method_list("kfUKF"), std::invalid_argument);
+}
+
+TEST(RunConfig, ValidateRejectsBadCombinations)
+{
+	RunOptions o;
+	EXPECT_NO_THROW(o.validate());
+	o.windows = {1};
+	EXPECT_THROW(o.validate(), std::invalid_argument);
+	o = RunOptions{};
+	o.windows.clear();
+	o.run_ekf = false;
+	o.run_batch = false;
+	EXPECT_THROW(o.validate(), std::invalid_argument);
+	o = RunOptions{};
+	o.threads = 0;
+	EXPECT_THROW(o.validate(), std::invalid_argument);
+}

@@ -1,0 +1,73 @@
+# End-to-end tests of `swba run` (included from tests/CMakeLists.txt). Short runs only (≤ 60 steps).
+set(_check ${CMAKE_CURRENT_LIST_DIR}/check_run.cmake)
+set(_data ${CMAKE_CURRENT_LIST_DIR}/data)
+set(_out ${CMAKE_CURRENT_BINARY_DIR}/runapp_e2e)
+set(_demo ${SWBA_MRPT_DATASETS}/kf-slam_6D_demo.rawlog)
+
+# swba_run_case(<name> <exit code> REGEX <regex> [NOT_REGEX <regex>] [FILES <a|b>] [JSON <steps> <rows>] ARGS <args...>)
+function(swba_run_case name rc)
+  cmake_parse_arguments(C "" "REGEX;NOT_REGEX;FILES" "JSON;ARGS" ${ARGN})
+  string(REPLACE ";" "|" _cmd "$<TARGET_FILE:swba>;run;${C_ARGS}")
+  set(_extra)
+  if(C_NOT_REGEX)
+    list(APPEND _extra "-DNOT_REGEX=${C_NOT_REGEX}")
+  endif()
+  if(C_FILES)
+    list(APPEND _extra "-DFILES=${C_FILES}")
+  endif()
+  if(C_JSON)
+    list(GET C_JSON 0 _steps)
+    list(GET C_JSON 1 _rows)
+    list(APPEND _extra -DJSON_STEPS=${_steps} -DJSON_ROWS=${_rows})
+  endif()
+  add_test(NAME runapp.e2e.${name}
+    COMMAND ${CMAKE_COMMAND} "-DCMD=${_cmd}" -DEXPECT_RC=${rc} "-DREGEX=${C_REGEX}" ${_extra}
+            -DOUT_DIR=${_out}/${name} -DCLEAN_DIR=${_out}/${name} -P ${_check})
+endfunction()
+
+# The default rawlog (no RAWLOG argument), 60 steps, W = 5 and 10: table, every file, JSON shape.
+swba_run_case(short_default 0
+  REGEX "\\(60 steps\\).*\nekf kfEKFAlaDavison +- +online +0\\.[0-9][0-9][0-9][0-9][0-9][0-9] .*\nekf kfEKFNaive .*\nwindow W=5 +5 +online +0\\.[0-9][0-9][0-9][0-9][0-9][0-9] .*\nwindow W=5 lagged +5 +lagged +0\\.[0-9][0-9][0-9][0-9][0-9][0-9] .*\nwindow W=10 +10 +online .*\nwindow W=10 lagged .*\nbatch +- +smoothed +0\\.[0-9][0-9][0-9][0-9][0-9][0-9] "
+  NOT_REGEX "FAILED"
+  FILES "gt.tum|ekf_kfEKFAlaDavison.tum|ekf_kfEKFNaive.tum|window_5.tum|window_5_lagged.tum|window_10.tum|window_10_lagged.tum|batch.tum|ape.txt|ape.csv|summary.json|config.ini"
+  JSON 60 7
+  ARGS --max-steps 60 --windows 5,10 --out ${_out}/short_default)
+# One EKF method: ekf.tum; policy × FEJ combinations: one row pair per combination.
+swba_run_case(policy_fej_both 0
+  REGEX "\nwindow W=5 slam fej +5 +online .*\nwindow W=5 slam nofej +5 .*\nwindow W=5 constant-time fej +5 .*\nwindow W=5 constant-time nofej lagged +5 +lagged "
+  FILES "ekf.tum|window_5_slam_fej.tum|window_5_slam_nofej_lagged.tum|window_5_constant-time_fej.tum|window_5_constant-time_nofej_lagged.tum"
+  JSON 30 9
+  ARGS ${_demo} --max-steps 30 --windows 5 --policy both --fej both --ekf-method kfEKFNaive --no-batch --no-plots --out ${_out}/policy_fej_both)
+# Precedence: defaults < --config < command line.
+swba_run_case(config_applied 0 REGEX "\\(20 steps\\).*\nwindow W=7 +7 +online" NOT_REGEX "\nekf|\nbatch"
+  ARGS ${_demo} --config ${_data}/override.ini --no-plots --out ${_out}/config_applied)
+swba_run_case(command_line_overrides_config 0 REGEX "\\(20 steps\\).*\nwindow W=5 +5 +online" NOT_REGEX "W=7<OR>\nbatch"
+  ARGS ${_demo} --config ${_data}/override.ini --windows 5 --no-plots --out ${_out}/command_line_overrides_config)
+# --help lists every option.
+swba_run_case(help 0 REGEX "--windows.*--no-ekf.*--no-batch.*--out.*--config.*--ekf-method.*--policy.*--fej.*--landmarks.*--gauge.*--sensor-std-range.*--causal.*--max-steps.*--threads"
+  ARGS --help)
+
+# Bad input: one line naming the file/option, exit != 0.
+swba_run_case(window_1 1 REGEX "swba run: error: --windows: window size must be >= 2, got 1\n"
+  ARGS --windows 5,1 --max-steps 10 --out ${_out}/window_1)
+swba_run_case(missing_rawlog 1 REGEX "swba run: error: rawlog '/nonexistent/none.rawlog': file does not exist"
+  ARGS /nonexistent/none.rawlog --out ${_out}/missing_rawlog)
+swba_run_case(gt_5_columns 1 REGEX "swba run: error: [^\n]*gt_5_columns.txt[^\n]*4[^\n]*6"
+  ARGS ${_demo} --gt ${_data}/gt_5_columns.txt --max-steps 60 --out ${_out}/gt_5_columns)
+swba_run_case(gt_too_short 1
+  REGEX "swba run: error: ground truth '[^']*gt_30_rows.txt': 30 rows, but the rawlog has 60 steps and needs 61 rows"
+  ARGS ${_demo} --gt ${_data}/gt_30_rows.txt --max-steps 60 --out ${_out}/gt_too_short)
+swba_run_case(missing_gt 1 REGEX "swba run: error: [^\n]*/nonexistent/gt.txt"
+  ARGS ${_demo} --gt /nonexistent/gt.txt --max-steps 10 --out ${_out}/missing_gt)
+swba_run_case(bad_policy 1 REGEX "swba run: error: unknown policy 'fast' \\(expected slam, constant-time or both\\)"
+  ARGS --policy fast --out ${_out}/bad_policy)
+swba_run_case(bad_fej 1 REGEX "swba run: error: unknown fej value 'sometimes'" ARGS --fej sometimes --out ${_out}/bad_fej)
+swba_run_case(bad_gauge 1 REGEX "swba run: error: unknown gauge 'loose'" ARGS --gauge loose --out ${_out}/bad_gauge)
+swba_run_case(bad_landmarks 1 REGEX "swba run: error: unknown landmark parameteri[sz]ation 'uvw'" ARGS --landmarks uvw --out ${_out}/bad_landmarks)
+swba_run_case(bad_ekf_method 1 REGEX "swba run: error: unknown EKF method 'kfUKF'" ARGS --ekf-method kfUKF --out ${_out}/bad_ekf_method)
+swba_run_case(bad_sensor_std 1 REGEX "swba run: error: --sensor-std-range must be a number > 0" ARGS --sensor-std-range 0 --out ${_out}/bad_sensor_std)
+swba_run_case(misspelt_config_key 1
+  REGEX "swba run: error: config '[^']*misspelt_key.ini': unknown key 'size' in section \\[window\\] \\(known keys: sizes, "
+  ARGS --config ${_data}/misspelt_key.ini --out ${_out}/misspelt_config_key)
+swba_run_case(missing_config 1 REGEX "swba run: error: config '/nonexistent/x.ini': file does not exist"
+  ARGS --config /nonexistent/x.ini --out ${_out}/missing_config)
