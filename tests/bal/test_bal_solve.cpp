@@ -108,7 +108,7 @@ TEST(BalSolve, OneLmStepEqualsDenseStepOnFullNormalEquations)
 		ASSERT_EQ(summary.successful_steps, 1) << "the first step must be accepted for the comparison";
 		const Eigen::VectorXd delta = stacked(bal) - x0;
 		const double rel = (delta - delta_ref).norm() / delta_ref.norm();
-		EXPECT_LT(rel, 1e-7) << "|δ_ours − δ_dense| / |δ_dense|";
+		EXPECT_LT(rel, 1e-9) << "|δ_ours − δ_dense| / |δ_dense| (measured 3e-12)";
 		std::cout << "  " << swba::to_string(type) << ": |δ| = " << delta_ref.norm() << ", relative difference "
 				  << rel << "\n";
 		// The step is not tiny: it changes the cost substantially.
