@@ -79,6 +79,7 @@ Result run_swba(const PoseGraph& input, const Settings& s, swba::RotationError m
 		swba::SolverOptions o;
 		o.max_iterations = s.max_iterations;
 		o.num_threads = s.threads;
+		o.dense_max_dim = 200;  // as swba pgo: sparse Cholesky beyond 200 unknowns
 		t0 = Clock::now();
 		const auto summary = swba::solve(pp.problem, o);
 		const double solve = seconds_since(t0);

@@ -14,3 +14,9 @@ set_tests_properties(pgo.cli_missing_file PROPERTIES WILL_FAIL TRUE)
 add_test(NAME pgo.cli_schur_rejected
   COMMAND $<TARGET_FILE:swba> pgo ${_pgo_data}/smallGrid3D.g2o --linear sparse-schur)
 set_tests_properties(pgo.cli_schur_rejected PROPERTIES WILL_FAIL TRUE)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/pgo_bad_number.g2o
+  "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\nVERTEX_SE3:QUAT 1 1 0 0 0 0 0 1\nEDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1x\n")
+add_test(NAME pgo.cli_malformed_file_names_line
+  COMMAND $<TARGET_FILE:swba> pgo ${CMAKE_CURRENT_BINARY_DIR}/pgo_bad_number.g2o)
+set_tests_properties(pgo.cli_malformed_file_names_line PROPERTIES
+  PASS_REGULAR_EXPRESSION "error: .*pgo_bad_number.g2o:3: EDGE_SE3:QUAT: field 30 \\('1x'\\) is not a finite number")
