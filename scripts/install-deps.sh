@@ -3,6 +3,7 @@
 set -euo pipefail
 pkgs=(cmake g++ make libeigen3-dev libsuitesparse-dev libgtest-dev
 	libmrpt-slam-dev libmrpt-tclap-dev mrpt-common
+	libmrpt-graphslam-dev  # optional: MRPT graph-SLAM peer of the pose-graph benchmark
 	libceres-dev     # optional: benchmark peer only
 	gnuplot-nox)     # optional: headless plots
 missing=()

@@ -50,25 +50,6 @@ const char* termination_name(TerminationType t)
 }
 }  // namespace
 
-GaugeMode parse_gauge_mode(const std::string& name)
-{
-	if (name == "free") return GaugeMode::Free;
-	if (name == "fixed") return GaugeMode::Fixed;
-	if (name == "prior") return GaugeMode::Prior;
-	throw std::invalid_argument("unknown gauge '" + name + "' (expected free, fixed or prior)");
-}
-
-std::string to_string(GaugeMode mode)
-{
-	switch (mode)
-	{
-		case GaugeMode::Free: return "free";
-		case GaugeMode::Fixed: return "fixed";
-		case GaugeMode::Prior: return "prior";
-	}
-	return "?";
-}
-
 bool MonoBASceneOptions::is_valid(std::string* why) const
 {
 	if (cameras < 2) return fail(why, "the number of cameras must be ≥ 2 (got " + std::to_string(cameras) + ")");

@@ -225,9 +225,11 @@ void NormalEquations::build_patterns()
 		cholesky_ = sparse_ ? BlockCholesky::sparse(s_pattern_) : BlockCholesky::dense(s_pattern_);
 }
 
-double NormalEquations::evaluate(bool want_jacobians, int* dropped)
+double NormalEquations::evaluate(bool want_jacobians, int* dropped, int* newly_dropped)
 {
 	const int nf = num_factors();
+	std::vector<char> was_valid;
+	if (newly_dropped) was_valid = valid_;
 #pragma omp parallel for schedule(dynamic, 256) num_threads(num_threads_) if (nf > kParallelMin)
 	for (int f = 0; f < nf; f++)
 	{
@@ -285,6 +287,11 @@ double NormalEquations::evaluate(bool want_jacobians, int* dropped)
 		nd += valid_[f] ? 0 : 1;
 	}
 	if (dropped) *dropped = nd;
+	if (newly_dropped)
+	{
+		*newly_dropped = 0;
+		for (int f = 0; f < nf; f++) *newly_dropped += (was_valid[f] && !valid_[f]) ? 1 : 0;
+	}
 	return cost;
 }
 

@@ -54,8 +54,9 @@ class NormalEquations
 	int num_factors() const { return static_cast<int>(factors_.size()); }
 
 	/** Evaluates every factor at the current values; with `jacobians` also the Jacobians.
-	 * Returns the total cost; `dropped` receives the count of unevaluable factors. */
-	double evaluate(bool jacobians, int* dropped);
+	 * Returns the total cost; `dropped` receives the count of unevaluable factors and
+	 * `newly_dropped` (optional) those that were evaluable at the previous evaluation but are not now. */
+	double evaluate(bool jacobians, int* dropped, int* newly_dropped = nullptr);
 	/** Assembles H = JᵀJ (blocks) and g = Jᵀr from the last Jacobian evaluation. */
 	void assemble();
 	/** max |g_i|. */

@@ -276,12 +276,14 @@ Summary solve(Problem& problem, const SolverOptions& options)
 			ne->save_values();
 			ne->apply_step(delta);
 			t0 = Clock::now();
-			int dropped_new = 0;
-			const double new_cost = ne->evaluate(false, &dropped_new);
+			int dropped_new = 0, newly_dropped = 0;
+			const double new_cost = ne->evaluate(false, &dropped_new, &newly_dropped);
 			summary.time_evaluation_s += seconds_since(t0);
 			it.cost_change = cost - new_cost;
 			it.relative_decrease = predicted > 0 ? it.cost_change / predicted : 0.0;
-			if (std::isfinite(new_cost) && predicted > 0 && it.relative_decrease > 1e-3)
+			// A step that makes an evaluable factor unevaluable (e.g. a landmark behind its anchor) is
+			// rejected, as Ceres rejects steps whose cost cannot be evaluated.
+			if (std::isfinite(new_cost) && newly_dropped == 0 && predicted > 0 && it.relative_decrease > 1e-3)
 			{
 				accepted = true;
 				const double old_cost = cost;
@@ -307,6 +309,7 @@ Summary solve(Problem& problem, const SolverOptions& options)
 			else
 			{
 				ne->restore_values();
+				if (newly_dropped > 0) ne->evaluate(false, &dropped);  // restore the validity flags
 			}
 		}
 		if (!accepted)

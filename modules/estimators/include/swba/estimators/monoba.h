@@ -20,18 +20,11 @@
 #include <string>
 #include <vector>
 
+#include <swba/estimators/gauge.h>
+
 namespace swba::estimators
 {
-/** How the 7-DoF gauge (SE(3) + scale) of monocular BA is handled. */
-enum class GaugeMode
-{
-	Free,   ///< nothing fixed: LM damping copes with the null space
-	Fixed,  ///< the first K poses are constant
-	Prior   ///< a PosePriorFactor with information W·I on each of the first K poses
-};
-/** Parses "free", "fixed", "prior"; throws std::invalid_argument otherwise. */
-GaugeMode parse_gauge_mode(const std::string& name);
-std::string to_string(GaugeMode mode);
+// GaugeMode, parse_gauge_mode, to_string(GaugeMode): swba/estimators/gauge.h (shared with the window).
 
 struct MonoBASceneOptions
 {

@@ -15,6 +15,7 @@
  * \endcode */
 #pragma once
 
+#include <swba/estimators/gauge.h>
 #include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
 #include <swba/nonlinear/solver.h>
@@ -43,19 +44,11 @@ enum class LandmarkPolicy
 	ConstantTime
 };
 
-enum class GaugeMode
-{
-	Fixed,  ///< the first pose is constant (default)
-	Free,   ///< nothing fixed; LM damping copes with the 6-DoF null space
-	Prior   ///< an SE(3) prior on the first pose with information gauge_prior_weight·I
-};
 
 LandmarkParameterization parse_landmark_parameterization(const std::string& s);  ///< "inverse-depth" | "xyz"
 LandmarkPolicy parse_landmark_policy(const std::string& s);                      ///< "slam" | "constant-time"
-GaugeMode parse_gauge_mode(const std::string& s);                                ///< "fixed" | "free" | "prior"
 std::string to_string(LandmarkParameterization p);
 std::string to_string(LandmarkPolicy p);
-std::string to_string(GaugeMode g);
 
 struct SlidingWindowOptions
 {
@@ -67,7 +60,8 @@ struct SlidingWindowOptions
 	LandmarkPolicy policy = LandmarkPolicy::Slam;
 	/** Evaluate every factor touching a state in the prior at that state's first estimate. Default true. */
 	bool first_estimate_jacobians = true;
-	/** Default Fixed. */
+	/** Gauge of the window: Fixed (the first pose is constant), Free, or Prior (an SE(3) prior on
+	 * the first pose with information gauge_prior_weight·I). Default Fixed. */
 	GaugeMode gauge = GaugeMode::Fixed;
 	/** Information (per tangent coordinate) of the gauge prior, GaugeMode::Prior only. Default 1e8. */
 	double gauge_prior_weight = 1e8;
@@ -147,6 +141,7 @@ class SlidingWindowEstimator
    private:
 	struct Impl;
 	std::unique_ptr<Impl> impl_;
+	friend struct BatchResult run_batch(const io::Rawlog&, const SlidingWindowOptions&, int);
 };
 
 /** Result of run_batch(). */

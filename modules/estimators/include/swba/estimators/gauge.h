@@ -1,0 +1,20 @@
+/** \file gauge.h
+ * Gauge handling modes shared by the estimators (sliding window, mono BA). */
+#pragma once
+
+#include <string>
+
+namespace swba::estimators
+{
+/** How an estimator removes or damps the gauge freedom of its problem. */
+enum class GaugeMode
+{
+	Free,   ///< nothing fixed: LM damping copes with the null space
+	Fixed,  ///< chosen poses are constant
+	Prior   ///< an SE(3) PosePriorFactor with information W·I on the chosen poses
+};
+
+/** Parses "free", "fixed", "prior"; throws std::invalid_argument otherwise. */
+GaugeMode parse_gauge_mode(const std::string& name);
+std::string to_string(GaugeMode mode);
+}  // namespace swba::estimators
