@@ -71,3 +71,12 @@ swba_run_case(misspelt_config_key 1
   ARGS --config ${_data}/misspelt_key.ini --out ${_out}/misspelt_config_key)
 swba_run_case(missing_config 1 REGEX "swba run: error: config '/nonexistent/x.ini': file does not exist"
   ARGS --config /nonexistent/x.ini --out ${_out}/missing_config)
+
+# MRPT's EKF diverges and throws on kf-slam_6D_demo_noncentered: a row with the step and the message,
+# the other estimators still run, exit 0.
+swba_run_case(ekf_failure_is_a_row 0
+  REGEX "\nekf kfEKFAlaDavison +- +online +- +- +- +- +- +[0-9.]+  FAILED at step [0-9]+: [^\n]*quaternion[^\n]*\nwindow W=2 +2 +online +0\\.[0-9]"
+  FILES "ekf.tum|window_2.tum|summary.json"
+  JSON 100 3
+  ARGS ${SWBA_MRPT_DATASETS}/kf-slam_6D_demo_noncentered.rawlog --ekf-method kfEKFAlaDavison --windows 2 --no-batch
+       --no-plots --max-steps 100 --out ${_out}/ekf_failure_is_a_row)

@@ -304,6 +304,7 @@ RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
 					const auto t0 = Clock::now();
 					est.finish();
 					total += seconds_since(t0);
+					online.step_summaries = est.step_summaries();
 					online.estimate = after_steps(est.online_trajectory());
 					lagged.estimate = after_steps(est.lagged_trajectory());
 				}

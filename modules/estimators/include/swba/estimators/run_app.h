@@ -12,6 +12,7 @@
 #pragma once
 
 #include <swba/estimators/run_config.h>
+#include <swba/estimators/sliding_window.h>
 #include <swba/eval/metrics.h>
 #include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
@@ -49,6 +50,9 @@ struct RunRow
 	 * shares the run of its online row and has the same numbers. */
 	std::vector<double> step_ms;
 	double mean_iterations = 0;  ///< window rows: mean LM iterations per step; batch: iterations
+	/** Window rows: what each process() call did (solve/marginalisation time, state size), for
+	 * benchmarks. Empty for other rows. */
+	std::vector<StepSummary> step_summaries;
 
 	bool failed = false;
 	std::size_t failed_step = 0;  ///< the step k whose processing threw
