@@ -100,6 +100,9 @@ TEST(MonoBA, FreeGaugeHessianHasSevenDimensionalNullSpace)
 	ASSERT_EQ(sys.num_dropped, 0);
 	ASSERT_EQ(sys.H.rows(), 3 * 6 + 20);
 	const Eigen::VectorXd ev = sorted_eigenvalues(sys.H);
+	std::printf("eigenvalues / max, smallest 9: ");
+	for (int i = 0; i < 9; i++) std::printf("%.2e ", ev[i] / ev.maxCoeff());
+	std::printf("\n");
 	EXPECT_EQ(count_below(ev, 1e-9), 7) << "eigenvalues / max: " << (ev / ev.maxCoeff()).head(9).transpose();
 	// The gap is wide: the 8th eigenvalue is far above the threshold, the 7th far below.
 	EXPECT_GT(ev[7], 1e-6 * ev.maxCoeff());
