@@ -215,3 +215,17 @@ TEST(RunConfig, ValidateRejectsBadCombinations)
 	o.threads = 0;
 	EXPECT_THROW(o.validate(), std::invalid_argument);
 }
+
+TEST(RunConfig, WrittenConfigReadsBackToTheSameOptions)
+{
+	// DIR/config.ini of a run must reproduce the run's options with --config.
+	RunOptions o;
+	load_run_config_text(non_default_ini(), "nd.ini", o);
+	o.ground_truth = "";  // an empty value written as "key = "
+	const std::string text = swba::estimators::format_run_config(o);
+	RunOptions back;
+	load_run_config_text(text, "written.ini", back);
+	EXPECT_EQ(swba::estimators::format_run_config(back), text);
+	EXPECT_EQ(back.windows, o.windows);
+	EXPECT_EQ(back.window.sensor_std_yaw, o.window.sensor_std_yaw);
+}
