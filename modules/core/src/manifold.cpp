@@ -64,9 +64,10 @@ void SE3Manifold::minus(const double* y, const double* x, double* delta) const
 	const Eigen::Matrix3d Rx = X.leftCols<3>();
 	const Eigen::Matrix3d dR = Rx.transpose() * Y.leftCols<3>();
 	const Eigen::Vector3d rho = Rx.transpose() * (Y.col(3) - X.col(3));
-	mrpt::math::CMatrixDouble33 M;
-	M.asEigen() = dR;
-	const auto w = mrpt::poses::Lie::SO<3>::log(M);
+	// Rotation log through a unit quaternion (Eigen::AngleAxisd): accurate up to and at π, where
+	// MRPT 2.5's SO<3>::log rounds angles within ~1e-7 of π to π.
+	const Eigen::AngleAxisd aa(Eigen::Quaterniond(dR).normalized());
+	const Eigen::Vector3d w = aa.angle() * aa.axis();
 	for (int i = 0; i < 3; i++)
 	{
 		delta[i] = rho[i];
