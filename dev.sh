@@ -14,16 +14,21 @@ mode=${1:-run}
 ./scripts/install-deps.sh
 
 jobs=$(nproc 2>/dev/null || echo 2)
-build() {  # build <dir> <extra cmake args...>
+build() {  # build <dir> [--target T] <extra cmake args...>
 	local dir=$1
 	shift
+	local target=()
+	if [ "${1:-}" = "--target" ]; then
+		target=(--target "$2")
+		shift 2
+	fi
 	cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DSWBA_WERROR=ON "$@" >/dev/null
-	cmake --build "$dir" -j "$jobs"
+	cmake --build "$dir" -j "$jobs" "${target[@]}"
 }
 
 case "$mode" in
 run)
-	build build
+	build build --target swba
 	exec ./build/apps/swba/swba run "$@"
 	;;
 test)
@@ -38,7 +43,7 @@ build)
 	build build
 	;;
 swba)
-	build build
+	build build --target swba
 	exec ./build/apps/swba/swba "$@"
 	;;
 *)
