@@ -6,12 +6,16 @@
  * and its square-root form (J, e) with ½‖e + J δ_k‖² = ½ δ_kᵀ H* δ_k − b*ᵀ δ_k + const, i.e.
  * JᵀJ = H*, Jᵀe = −b*.
  *
- * Numerics (why these decompositions): H_mm is inverted through a self-adjoint eigen-decomposition
- * with the same relative threshold, so a rank-deficient marginalised block (an unobservable
- * direction of the dropped variables) is pseudo-inverted instead of blowing up; H* is symmetrised,
- * then eigen-decomposed (SelfAdjointEigenSolver, exact for symmetric matrices) and eigenvalues
- * λ ≤ rel_threshold·λ_max are dropped — J = √Λ Vᵀ, e = −√Λ⁻¹ Vᵀ b* over the kept eigenpairs — so the
- * prior never claims information along (numerically) unobservable directions. */
+ * Numerics (why these decompositions): H_mm (small: the leaving pose and the landmarks leaving with
+ * it) is inverted through a self-adjoint eigen-decomposition with the relative threshold, so a
+ * rank-deficient marginalised block (an unobservable direction of the dropped variables) is
+ * pseudo-inverted instead of blowing up. H* is symmetrised and factored by a pivoted LDLᵀ
+ * (H* = Pᵀ L D Lᵀ P, Eigen::LDLT): J = √D Lᵀ P and e = −√D⁻¹ L⁻¹ P b* over the pivots
+ * D_i > rel_threshold·max(D), so the prior claims no information along numerically unobservable
+ * directions. LDLᵀ rather than an eigen-decomposition: H* is dense over all landmarks of a SLAM
+ * window (hundreds of unknowns) and is re-factored at every step; LDLᵀ costs n³/3 against ~9n³ and
+ * gives the same prior where nothing is truncated (basalt keeps a square-root form for the same
+ * reason). */
 #pragma once
 
 #include <Eigen/Core>
@@ -23,9 +27,9 @@ struct MarginalizationResult
 {
 	Eigen::MatrixXd H;  ///< Schur complement H* over `keep` (symmetrised)
 	Eigen::VectorXd b;  ///< b* over `keep`
-	Eigen::MatrixXd J;  ///< rank × |keep| square-root information
+	Eigen::MatrixXd J;  ///< rank × |keep| square-root information (JᵀJ = H up to truncation)
 	Eigen::VectorXd e;  ///< rank residual at the linearisation point
-	int rank = 0;       ///< eigenvalues kept
+	int rank = 0;       ///< pivots kept
 };
 
 /** Eliminates `marg` from (H, b); `keep` and `marg` are disjoint index lists into H (any index not
