@@ -178,8 +178,7 @@ void NormalEquations::build_patterns()
 		elim_pl_[pb.elim].push_back(static_cast<int>(i));
 		kept_pl_[pb.kept].push_back(static_cast<int>(i));
 	}
-	Hpl_.assign(off, 0.0);
-	W_.assign(off, 0.0);
+	Hlp_.assign(off, 0.0);
 	ll_offset_.resize(elim_.size());
 	off = 0;
 	for (size_t l = 0; l < elim_.size(); l++)
@@ -192,44 +191,83 @@ void NormalEquations::build_patterns()
 	g_.assign(kept_dim_ + elim_dim_, 0.0);
 
 	// Reduced system pattern: H_pp blocks ∪ pairs of kept variables sharing an eliminated one.
-	std::map<std::pair<int, int>, std::vector<SchurTerm>> terms;
-	for (const auto& b : pp_blocks_) terms[b];
+	std::map<std::pair<int, int>, int> s_index;
+	for (const auto& blk : pp_blocks_) s_index[blk];
 	for (size_t l = 0; l < elim_.size(); l++)
 	{
 		const auto& list = elim_pl_[l];
+		// list is sorted by kept index, so pl_blocks_[list[x]].kept ≤ pl_blocks_[list[y]].kept for x ≤ y.
 		for (size_t x = 0; x < list.size(); x++)
-			for (size_t y = x; y < list.size(); y++)
-			{
-				// list is sorted by kept index, so pl_blocks_[list[x]].kept ≤ pl_blocks_[list[y]].kept.
-				terms[{pl_blocks_[list[x]].kept, pl_blocks_[list[y]].kept}].push_back({list[x], list[y]});
-			}
+			for (size_t y = x; y < list.size(); y++) s_index[{pl_blocks_[list[x]].kept, pl_blocks_[list[y]].kept}];
 	}
 	s_pattern_.block_sizes.clear();
 	for (const auto& v : kept_) s_pattern_.block_sizes.push_back(v.tangent);
 	s_pattern_.upper_blocks.clear();
-	s_terms_.clear();
 	s_pp_block_.clear();
 	s_offset_.clear();
+	s_row_begin_.assign(kept_.size() + 1, 0);
 	off = 0;
-	for (auto& [key, list] : terms)
+	for (auto& [key, index] : s_index)
 	{
+		index = static_cast<int>(s_pattern_.upper_blocks.size());
 		s_pattern_.upper_blocks.push_back(key);
-		s_terms_.push_back(std::move(list));
 		auto it = pp_index.find(key);
 		s_pp_block_.push_back(it == pp_index.end() ? -1 : it->second);
 		s_offset_.push_back(off);
 		off += kept_[key.first].tangent * kept_[key.second].tangent;
+		s_row_begin_[key.first + 1] = index + 1;
 	}
+	// Every kept variable has its diagonal block, so every row is non-empty and the ends are set.
 	S_.assign(off, 0.0);
-	if (kept_dim_ > 0)
+	s_block_ptr_.resize(s_offset_.size());
+	for (size_t k = 0; k < s_offset_.size(); k++) s_block_ptr_[k] = S_.data() + s_offset_[k];
+	// Schur terms per pl block (a, l): the S offsets of (a, b) for the pl blocks (b, l) with b ≥ a.
+	pl_pos_.assign(pl_blocks_.size(), 0);
+	pl_term_begin_.assign(pl_blocks_.size(), 0);
+	term_s_offset_.clear();
+	for (size_t l = 0; l < elim_.size(); l++)
+	{
+		const auto& list = elim_pl_[l];
+		for (size_t x = 0; x < list.size(); x++)
+		{
+			pl_pos_[list[x]] = static_cast<int>(x);
+			pl_term_begin_[list[x]] = static_cast<int>(term_s_offset_.size());
+			for (size_t y = x; y < list.size(); y++)
+				term_s_offset_.push_back(
+					s_offset_[s_index.at({pl_blocks_[list[x]].kept, pl_blocks_[list[y]].kept})]);
+		}
+	}
+	uniform_kept_ = kept_.empty() ? 0 : kept_[0].tangent;
+	for (const auto& v : kept_)
+		if (v.tangent != uniform_kept_) uniform_kept_ = 0;
+	uniform_elim_ = elim_.empty() ? 0 : elim_[0].tangent;
+	for (const auto& v : elim_)
+		if (v.tangent != uniform_elim_) uniform_elim_ = 0;
+	rhs_.setZero(kept_dim_);
+}
+
+void NormalEquations::set_sparse(bool sparse)
+{
+	if (sparse != sparse_) cholesky_.reset();
+	sparse_ = sparse;
+}
+
+double NormalEquations::reduced_block_fill() const
+{
+	const double n = static_cast<double>(kept_.size());
+	return n > 0 ? static_cast<double>(s_pattern_.upper_blocks.size()) / (n * (n + 1) / 2) : 1.0;
+}
+
+void NormalEquations::ensure_cholesky()
+{
+	if (!cholesky_ && kept_dim_ > 0)
 		cholesky_ = sparse_ ? BlockCholesky::sparse(s_pattern_) : BlockCholesky::dense(s_pattern_);
 }
 
 double NormalEquations::evaluate(bool want_jacobians, int* dropped, int* newly_dropped)
 {
 	const int nf = num_factors();
-	std::vector<char> was_valid;
-	if (newly_dropped) was_valid = valid_;
+	if (newly_dropped) valid_before_ = valid_;
 #pragma omp parallel for schedule(dynamic, 256) num_threads(num_threads_) if (nf > kParallelMin)
 	for (int f = 0; f < nf; f++)
 	{
@@ -290,7 +328,7 @@ double NormalEquations::evaluate(bool want_jacobians, int* dropped, int* newly_d
 	if (newly_dropped)
 	{
 		*newly_dropped = 0;
-		for (int f = 0; f < nf; f++) *newly_dropped += (was_valid[f] && !valid_[f]) ? 1 : 0;
+		for (int f = 0; f < nf; f++) *newly_dropped += (valid_before_[f] && !valid_[f]) ? 1 : 0;
 	}
 	return cost;
 }
@@ -320,12 +358,12 @@ void NormalEquations::assemble()
 		{
 			const auto& pb = pl_blocks_[b];
 			const int na = kept_[pb.kept].tangent, nl = elim_[pb.elim].tangent;
-			double* H = Hpl_.data() + pb.offset;
+			double* H = Hlp_.data() + pb.offset;  // H_lp = Σ J_lᵀ J_p (nl × na)
 			std::fill(H, H + na * nl, 0.0);
 			for (const auto& c : pb.contrib)
 			{
 				if (!valid_[c.factor]) continue;
-				add_AtB(jac(c.factor, c.slot_a), jac(c.factor, c.slot_b), factors_[c.factor].m, na, nl, H);
+				add_AtB(jac(c.factor, c.slot_b), jac(c.factor, c.slot_a), factors_[c.factor].m, nl, na, H);
 			}
 		}
 		const int ne = num_elim();
@@ -367,133 +405,219 @@ double NormalEquations::gradient_max_norm() const
 	return m;
 }
 
-bool NormalEquations::solve_damped(double lambda, double min_diag, double max_diag, Eigen::VectorXd& delta)
+namespace
 {
-	delta.setZero(kept_dim_ + elim_dim_);
-	auto damp = [&](double d) { return lambda * std::clamp(d, min_diag, max_diag); };
-	bool ok = true;
-	// 1. Damped H_ll⁻¹ and W = H_pl H_ll⁻¹ per eliminated variable.
-	const int ne = num_elim();
-#pragma omp parallel for schedule(dynamic, 256) num_threads(num_threads_) reduction(&& : ok) if (ne > kParallelMin)
-	for (int l = 0; l < ne; l++)
+double damped(double d, double lambda, double min_diag, double max_diag)
+{
+	return lambda * std::clamp(d, min_diag, max_diag);
+}
+
+/** Calls f(integral_constant NP, integral_constant NL) for the uniform block sizes of BAL (9, 3),
+ * pose + point (6, 3) and planar (3, 2 / 3, 3) problems; anything else runs with run-time sizes. */
+template <typename F>
+void dispatch_schur_sizes(int np, int nl, F&& f)
+{
+	using Dyn = std::integral_constant<int, Eigen::Dynamic>;
+	if (np == 9 && nl == 3)
+		f(std::integral_constant<int, 9>(), std::integral_constant<int, 3>());
+	else if (np == 6 && nl == 3)
+		f(std::integral_constant<int, 6>(), std::integral_constant<int, 3>());
+	else if (np == 6 && nl == 1)
+		f(std::integral_constant<int, 6>(), std::integral_constant<int, 1>());
+	else if (np == 3 && nl == 2)
+		f(std::integral_constant<int, 3>(), std::integral_constant<int, 2>());
+	else
+		f(Dyn(), Dyn());
+}
+}  // namespace
+
+template <int NL>
+bool NormalEquations::invert_damped_ll(int l, double lambda, double min_diag, double max_diag)
+{
+	const int nl = dim_or<NL>(elim_[l].tangent);
+	using Mat = Eigen::Matrix<double, NL, NL, NL == 1 ? Eigen::ColMajor : Eigen::RowMajor>;
+	Eigen::Map<const Mat> H(Hll_.data() + ll_offset_[l], nl, nl);
+	Eigen::Map<Mat> Hinv(Hll_inv_.data() + ll_offset_[l], nl, nl);
+	Mat Hd = H;
+	for (int i = 0; i < nl; i++) Hd(i, i) += damped(H(i, i), lambda, min_diag, max_diag);
+	Eigen::LLT<Mat> llt(Hd);
+	if (llt.info() != Eigen::Success)
 	{
-		const int nl = elim_[l].tangent;
-		Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> H(
-			Hll_.data() + ll_offset_[l], nl, nl);
-		Eigen::MatrixXd Hd = H;
-		for (int i = 0; i < nl; i++) Hd(i, i) += damp(H(i, i));
-		Eigen::LLT<Eigen::MatrixXd> llt(Hd);
-		if (llt.info() != Eigen::Success)
-		{
-			ok = false;
-			continue;
-		}
-		Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Hinv(
-			Hll_inv_.data() + ll_offset_[l], nl, nl);
-		Hinv = llt.solve(Eigen::MatrixXd::Identity(nl, nl));
-		for (int b : elim_pl_[l])
-		{
-			const auto& pb = pl_blocks_[b];
-			set_AS(Hpl_.data() + pb.offset, Hinv.data(), kept_[pb.kept].tangent, nl, W_.data() + pb.offset);
-		}
+		Hinv.setZero();
+		return false;
 	}
-	if (!ok) return false;
-	// 2. Reduced system S = H_pp + λD − Σ W H_plᵀ, rhs = −g_p + Σ W g_l.
-	const int ns = static_cast<int>(s_terms_.size());
-	std::vector<const double*> blocks(ns);
-#pragma omp parallel for schedule(dynamic, 32) num_threads(num_threads_) if (ns > kParallelMin / 8)
-	for (int k = 0; k < ns; k++)
+	Hinv = llt.solve(Mat::Identity(nl, nl));
+	return true;
+}
+
+template <int NP, int NL>
+void NormalEquations::schur_row(int a, double lambda, double min_diag, double max_diag, double* rhs)
+{
+	const int na = dim_or<NP>(kept_[a].tangent);
+	// S_ab ← H_ab (+ λD on the diagonal block), zero for blocks that only come from the elimination.
+	for (int k = s_row_begin_[a]; k < s_row_begin_[a + 1]; k++)
 	{
-		const auto [a, b] = s_pattern_.upper_blocks[k];
-		const int na = kept_[a].tangent, nb = kept_[b].tangent;
+		const int b = s_pattern_.upper_blocks[k].second;
+		const int nb = dim_or<NP>(kept_[b].tangent);
 		double* S = S_.data() + s_offset_[k];
 		if (s_pp_block_[k] >= 0)
 			std::copy_n(Hpp_.data() + pp_offset_[s_pp_block_[k]], na * nb, S);
 		else
 			std::fill(S, S + na * nb, 0.0);
 		if (a == b)
-			for (int i = 0; i < na; i++) S[i * na + i] += damp(S[i * na + i]);
-		for (const auto& t : s_terms_[k])
-		{
-			const int nl = elim_[pl_blocks_[t.pl_a].elim].tangent;
-			sub_ABt(W_.data() + pl_blocks_[t.pl_a].offset, Hpl_.data() + pl_blocks_[t.pl_b].offset, na, nb, nl, S);
-		}
-		blocks[k] = S;
+			for (int i = 0; i < na; i++) S[i * na + i] += damped(S[i * na + i], lambda, min_diag, max_diag);
 	}
-	Eigen::VectorXd rhs(kept_dim_);
-	const int nk = num_kept();
-#pragma omp parallel for schedule(dynamic, 64) num_threads(num_threads_) if (nk > kParallelMin / 8)
-	for (int a = 0; a < nk; a++)
+	double* r = rhs + kept_[a].offset;
+	for (int i = 0; i < na; i++) r[i] = -g_[kept_[a].offset + i];
+	constexpr bool fixed = NP > 0 && NL > 0;
+	double W_fixed[fixed ? NP * NL : 1];
+	std::vector<double> W_dynamic;
+	for (const int pa : kept_pl_[a])
 	{
-		const int na = kept_[a].tangent;
-		double* r = rhs.data() + kept_[a].offset;
-		for (int i = 0; i < na; i++) r[i] = -g_[kept_[a].offset + i];
-		for (int b : kept_pl_[a])
+		const auto& pb = pl_blocks_[pa];
+		const int l = pb.elim;
+		const int nl = dim_or<NL>(elim_[l].tangent);
+		double* W = W_fixed;
+		if constexpr (!fixed)
 		{
-			const auto& pb = pl_blocks_[b];
-			add_Ax(W_.data() + pb.offset, g_.data() + kept_dim_ + elim_[pb.elim].offset, na,
-				   elim_[pb.elim].tangent, +1.0, r);
+			W_dynamic.resize(static_cast<size_t>(na) * nl);
+			W = W_dynamic.data();
+		}
+		// W = H_al H_ll⁻¹ = H_laᵀ H_ll⁻¹ (na × nl).
+		const double* Hla = Hlp_.data() + pb.offset;
+		const double* Hinv = Hll_inv_.data() + ll_offset_[l];
+		for (int i = 0; i < na; i++)
+			for (int k = 0; k < nl; k++)
+			{
+				double acc = Hla[i] * Hinv[k];
+				for (int m = 1; m < nl; m++) acc += Hla[m * na + i] * Hinv[m * nl + k];
+				W[i * nl + k] = acc;
+			}
+		// rhs_a += W g_l.
+		const double* gl = g_.data() + kept_dim_ + elim_[l].offset;
+		for (int i = 0; i < na; i++)
+		{
+			double acc = W[i * nl] * gl[0];
+			for (int k = 1; k < nl; k++) acc += W[i * nl + k] * gl[k];
+			r[i] += acc;
+		}
+		// S_ab −= W H_lb for the blocks (b ≥ a, l).
+		const auto& list = elim_pl_[l];
+		const int* s_off = term_s_offset_.data() + pl_term_begin_[pa];
+		for (size_t y = static_cast<size_t>(pl_pos_[pa]); y < list.size(); y++, s_off++)
+		{
+			const auto& pbb = pl_blocks_[list[y]];
+			const int nb = dim_or<NP>(kept_[pbb.kept].tangent);
+			const double* Hlb = Hlp_.data() + pbb.offset;
+			double* S = S_.data() + *s_off;
+			for (int i = 0; i < na; i++)
+				for (int j = 0; j < nb; j++)
+				{
+					double acc = W[i * nl] * Hlb[j];
+					for (int k = 1; k < nl; k++) acc += W[i * nl + k] * Hlb[k * nb + j];
+					S[i * nb + j] -= acc;
+				}
 		}
 	}
+}
+
+template <int NP, int NL>
+void NormalEquations::back_substitute(int l, double* delta) const
+{
+	const int nl = dim_or<NL>(elim_[l].tangent);
+	constexpr bool fixed = NL > 0;
+	double v_fixed[fixed ? NL : 1];
+	std::vector<double> v_dynamic;
+	double* v = v_fixed;
+	if constexpr (!fixed)
+	{
+		v_dynamic.resize(nl);
+		v = v_dynamic.data();
+	}
+	const double* gl = g_.data() + kept_dim_ + elim_[l].offset;
+	for (int k = 0; k < nl; k++) v[k] = -gl[k];
+	for (const int pb_index : elim_pl_[l])
+	{
+		const auto& pb = pl_blocks_[pb_index];
+		const int nb = dim_or<NP>(kept_[pb.kept].tangent);
+		const double* H = Hlp_.data() + pb.offset;
+		const double* dp = delta + kept_[pb.kept].offset;
+		for (int k = 0; k < nl; k++)
+		{
+			double acc = H[k * nb] * dp[0];
+			for (int j = 1; j < nb; j++) acc += H[k * nb + j] * dp[j];
+			v[k] -= acc;
+		}
+	}
+	const double* Hinv = Hll_inv_.data() + ll_offset_[l];
+	double* dl = delta + kept_dim_ + elim_[l].offset;
+	for (int i = 0; i < nl; i++)
+	{
+		double acc = Hinv[i * nl] * v[0];
+		for (int k = 1; k < nl; k++) acc += Hinv[i * nl + k] * v[k];
+		dl[i] = acc;
+	}
+}
+
+bool NormalEquations::solve_damped(double lambda, double min_diag, double max_diag, Eigen::VectorXd& delta)
+{
+	delta.setZero(kept_dim_ + elim_dim_);
+	const int ne = num_elim(), nk = num_kept();
+	const int num_terms = static_cast<int>(term_s_offset_.size());
+	const bool parallel = num_threads_ > 1 && (ne > kParallelMin || num_terms > kParallelMin || nk > kParallelMin);
+	int failed = 0;
+	// One parallel region: 1. damped H_ll⁻¹ per eliminated variable; 2. the reduced system
+	// S = H_pp + λD − Σ_l H_pl H_ll⁻¹ H_lp and rhs = −g_p + Σ_l H_pl H_ll⁻¹ g_l, block row by block row.
+	dispatch_schur_sizes(uniform_kept_, uniform_elim_, [&](auto NPc, auto NLc) {
+		constexpr int NP = decltype(NPc)::value, NL = decltype(NLc)::value;
+#pragma omp parallel num_threads(num_threads_) if (parallel)
+		{
+#pragma omp for schedule(dynamic, 256) reduction(+ : failed)
+			for (int l = 0; l < ne; l++) failed += invert_damped_ll<NL>(l, lambda, min_diag, max_diag) ? 0 : 1;
+#pragma omp for schedule(dynamic, 1)
+			for (int a = 0; a < nk; a++) schur_row<NP, NL>(a, lambda, min_diag, max_diag, rhs_.data());
+		}
+	});
+	if (failed > 0) return false;
 	if (kept_dim_ > 0)
 	{
-		if (!cholesky_->factorize(blocks)) return false;
-		cholesky_->solve(rhs.data());
-		if (!rhs.allFinite()) return false;
-		delta.head(kept_dim_) = rhs;
+		ensure_cholesky();
+		if (!cholesky_->factorize(s_block_ptr_)) return false;
+		cholesky_->solve(rhs_.data());
+		if (!rhs_.allFinite()) return false;
+		delta.head(kept_dim_) = rhs_;
 	}
-	// 3. Back-substitution: δ_l = H_ll⁻¹ (−g_l − Σ H_plᵀ δ_p).
-#pragma omp parallel for schedule(dynamic, 256) num_threads(num_threads_) if (ne > kParallelMin)
-	for (int l = 0; l < ne; l++)
-	{
-		const int nl = elim_[l].tangent;
-		Eigen::VectorXd v(nl);
-		for (int i = 0; i < nl; i++) v[i] = -g_[kept_dim_ + elim_[l].offset + i];
-		for (int b : elim_pl_[l])
-		{
-			const auto& pb = pl_blocks_[b];
-			add_Atx(Hpl_.data() + pb.offset, delta.data() + kept_[pb.kept].offset, kept_[pb.kept].tangent, nl,
-					-1.0, v.data());
-		}
-		Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Hinv(
-			Hll_inv_.data() + ll_offset_[l], nl, nl);
-		delta.segment(kept_dim_ + elim_[l].offset, nl) = Hinv * v;
-	}
+	// 3. Back-substitution: δ_l = H_ll⁻¹ (−g_l − Σ H_lp δ_p).
+	dispatch_schur_sizes(uniform_kept_, uniform_elim_, [&](auto NPc, auto NLc) {
+		constexpr int NP = decltype(NPc)::value, NL = decltype(NLc)::value;
+#pragma omp parallel for schedule(dynamic, 256) num_threads(num_threads_) if (num_threads_ > 1 && ne > kParallelMin)
+		for (int l = 0; l < ne; l++) back_substitute<NP, NL>(l, delta.data());
+	});
 	return delta.allFinite();
 }
 
 double NormalEquations::model_decrease(const Eigen::VectorXd& delta) const
 {
-	// −gᵀδ − ½ δᵀ H δ, with H δ computed blockwise from the undamped blocks.
-	Eigen::Map<const Eigen::VectorXd> g(g_.data(), g_.size());
-	Eigen::VectorXd Hd = Eigen::VectorXd::Zero(delta.size());
+	// −gᵀδ − ½ δᵀHδ with δᵀHδ summed blockwise from the undamped blocks (no H δ vector).
+	const double* d = delta.data();
+	double quad = 0;
 	for (size_t b = 0; b < pp_blocks_.size(); b++)
 	{
 		const auto [i, j] = pp_blocks_[b];
-		const int ni = kept_[i].tangent, nj = kept_[j].tangent;
-		Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> H(
-			Hpp_.data() + pp_offset_[b], ni, nj);
-		Hd.segment(kept_[i].offset, ni) += H * delta.segment(kept_[j].offset, nj);
-		if (i != j) Hd.segment(kept_[j].offset, nj) += H.transpose() * delta.segment(kept_[i].offset, ni);
+		const double q = quadratic_form(d + kept_[i].offset, Hpp_.data() + pp_offset_[b], d + kept_[j].offset,
+										kept_[i].tangent, kept_[j].tangent);
+		quad += i == j ? q : 2 * q;
 	}
 	for (const auto& pb : pl_blocks_)
-	{
-		const int na = kept_[pb.kept].tangent, nl = elim_[pb.elim].tangent;
-		Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> H(
-			Hpl_.data() + pb.offset, na, nl);
-		const int lo = kept_dim_ + elim_[pb.elim].offset;
-		Hd.segment(kept_[pb.kept].offset, na) += H * delta.segment(lo, nl);
-		Hd.segment(lo, nl) += H.transpose() * delta.segment(kept_[pb.kept].offset, na);
-	}
+		quad += 2 * quadratic_form(d + kept_dim_ + elim_[pb.elim].offset, Hlp_.data() + pb.offset,
+								   d + kept_[pb.kept].offset, elim_[pb.elim].tangent, kept_[pb.kept].tangent);
 	for (size_t l = 0; l < elim_.size(); l++)
 	{
-		const int nl = elim_[l].tangent;
-		Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> H(
-			Hll_.data() + ll_offset_[l], nl, nl);
-		const int lo = kept_dim_ + elim_[l].offset;
-		Hd.segment(lo, nl) += H * delta.segment(lo, nl);
+		const double* dl = d + kept_dim_ + elim_[l].offset;
+		quad += quadratic_form(dl, Hll_.data() + ll_offset_[l], dl, elim_[l].tangent, elim_[l].tangent);
 	}
-	return -g.dot(delta) - 0.5 * delta.dot(Hd);
+	Eigen::Map<const Eigen::VectorXd> g(g_.data(), g_.size());
+	return -g.dot(delta) - 0.5 * quad;
 }
 
 void NormalEquations::save_values()
