@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace swba
 {
@@ -49,16 +50,35 @@ bool Factor::evaluate_whitened(const double* const* x, double* residual, double*
 	if (!evaluate(x, residual, jacobians)) return false;
 	if (sqrt_info_.size() == 0) return true;
 	const int m = residual_dim_;
-	Eigen::Map<Eigen::VectorXd> r(residual, m);
-	r = sqrt_info_ * r;
+	const double* W = sqrt_info_.data();  // column-major m×m
+	// y ← W y for a strided column y of length m, through a stack copy (no heap temporaries: this
+	// runs per factor per evaluation). Sums are formed in column order k = 0..m−1.
+	auto whiten = [&](double* y, int stride, double* tmp) {
+		for (int k = 0; k < m; k++) tmp[k] = y[k * stride];
+		for (int i = 0; i < m; i++)
+		{
+			double acc = W[i] * tmp[0];
+			for (int k = 1; k < m; k++) acc += W[k * m + i] * tmp[k];
+			y[i * stride] = acc;
+		}
+	};
+	constexpr int kStackDim = 32;
+	double stack_tmp[kStackDim];
+	std::vector<double> heap_tmp;
+	double* tmp = stack_tmp;
+	if (m > kStackDim)
+	{
+		heap_tmp.resize(m);
+		tmp = heap_tmp.data();
+	}
+	whiten(residual, 1, tmp);
 	if (jacobians)
 	{
 		for (int i = 0; i < num_variables(); i++)
 		{
 			if (!jacobians[i]) continue;
-			Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(
-				jacobians[i], m, tangent_dims_[i]);
-			J = (sqrt_info_ * J).eval();
+			const int n = tangent_dims_[i];
+			for (int c = 0; c < n; c++) whiten(jacobians[i] + c, n, tmp);  // row-major m×n: column c
 		}
 	}
 	return true;

@@ -431,6 +431,57 @@ void dispatch_schur_sizes(int np, int nl, F&& f)
 }
 }  // namespace
 
+/** S (na×nb) −= W (na×nl) · H (nl×nb), row-major; S[i][j] −= Σ_k W[i][k] H[k][j] with the sum formed
+ * first (in k order). Written row by row over j (contiguous in H and S) so that the compiler
+ * vectorises across j; the pointers never alias. */
+template <int NA, int NB, int NL>
+inline void sub_WH(const double* __restrict W, const double* __restrict H, int na_, int nb_, int nl_,
+				   double* __restrict S)
+{
+	const int na = dim_or<NA>(na_), nb = dim_or<NB>(nb_), nl = dim_or<NL>(nl_);
+	if constexpr (NB > 0)
+	{
+		for (int i = 0; i < na; i++)
+		{
+			double t[NB];
+			const double w0 = W[i * nl];
+			for (int j = 0; j < NB; j++) t[j] = w0 * H[j];
+			for (int k = 1; k < nl; k++)
+			{
+				const double w = W[i * nl + k];
+				for (int j = 0; j < NB; j++) t[j] += w * H[k * NB + j];
+			}
+			for (int j = 0; j < NB; j++) S[i * NB + j] -= t[j];
+		}
+	}
+	else
+	{
+		for (int i = 0; i < na; i++)
+			for (int j = 0; j < nb; j++)
+			{
+				double acc = W[i * nl] * H[j];
+				for (int k = 1; k < nl; k++) acc += W[i * nl + k] * H[k * nb + j];
+				S[i * nb + j] -= acc;
+			}
+	}
+}
+
+/** Upper triangle (j ≥ i) of S (n×n) −= W (n×nl) · H (nl×n), for a diagonal block of S (H = Wᵀ up to
+ * H_ll⁻¹; the lower triangle is mirrored once the block row is complete). */
+template <int N, int NL>
+inline void sub_WH_upper(const double* __restrict W, const double* __restrict H, int n_, int nl_,
+						 double* __restrict S)
+{
+	const int n = dim_or<N>(n_), nl = dim_or<NL>(nl_);
+	for (int i = 0; i < n; i++)
+		for (int j = i; j < n; j++)
+		{
+			double acc = W[i * nl] * H[j];
+			for (int k = 1; k < nl; k++) acc += W[i * nl + k] * H[k * n + j];
+			S[i * n + j] -= acc;
+		}
+}
+
 template <int NL>
 bool NormalEquations::invert_damped_ll(int l, double lambda, double min_diag, double max_diag)
 {
@@ -504,21 +555,21 @@ void NormalEquations::schur_row(int a, double lambda, double min_diag, double ma
 		// S_ab −= W H_lb for the blocks (b ≥ a, l).
 		const auto& list = elim_pl_[l];
 		const int* s_off = term_s_offset_.data() + pl_term_begin_[pa];
-		for (size_t y = static_cast<size_t>(pl_pos_[pa]); y < list.size(); y++, s_off++)
+		// The first block is (a, l) itself: the diagonal block S_aa, upper triangle only.
+		sub_WH_upper<NP, NL>(W, Hla, na, nl, S_.data() + *s_off);
+		s_off++;
+		for (size_t y = static_cast<size_t>(pl_pos_[pa]) + 1; y < list.size(); y++, s_off++)
 		{
 			const auto& pbb = pl_blocks_[list[y]];
 			const int nb = dim_or<NP>(kept_[pbb.kept].tangent);
 			const double* Hlb = Hlp_.data() + pbb.offset;
-			double* S = S_.data() + *s_off;
-			for (int i = 0; i < na; i++)
-				for (int j = 0; j < nb; j++)
-				{
-					double acc = W[i * nl] * Hlb[j];
-					for (int k = 1; k < nl; k++) acc += W[i * nl + k] * Hlb[k * nb + j];
-					S[i * nb + j] -= acc;
-				}
+			sub_WH<NP, NP, NL>(W, Hlb, na, nb, nl, S_.data() + *s_off);
 		}
 	}
+	// Mirror the diagonal block's upper triangle (the back ends read full diagonal blocks).
+	double* Saa = S_.data() + s_offset_[s_row_begin_[a]];
+	for (int i = 0; i < na; i++)
+		for (int j = 0; j < i; j++) Saa[i * na + j] = Saa[j * na + i];
 }
 
 template <int NP, int NL>

@@ -144,6 +144,11 @@ static bool schur_pays_off(const Problem& problem)
 	return terms <= 8.0 * std::max(1.0, blocks);
 }
 
+/** Auto: reduced systems up to this dimension are always factorised densely. */
+constexpr int kAutoDenseAlwaysDim = 200;
+/** Auto: between that and dense_max_dim, dense only with at least this upper-block fill. */
+constexpr double kAutoDenseMinFill = 0.25;
+
 Summary solve(Problem& problem, const SolverOptions& options)
 {
 	std::string why;
@@ -187,6 +192,11 @@ Summary solve(Problem& problem, const SolverOptions& options)
 			sparse = dim > options.dense_max_dim;
 			ne = std::make_unique<detail::NormalEquations>(problem, false, sparse, options.num_threads);
 		}
+		// Dense only pays when the reduced system is small or mostly filled: a pose graph of 744
+		// unknowns with ~5 % block fill factorises ~8× faster with CHOLMOD than with a dense LLT.
+		sparse = !(dim <= kAutoDenseAlwaysDim ||
+				   (dim <= options.dense_max_dim && ne->reduced_block_fill() >= kAutoDenseMinFill));
+		ne->set_sparse(sparse);
 		used = use_schur ? (sparse ? LinearSolverType::SparseSchur : LinearSolverType::DenseSchur)
 						 : (sparse ? LinearSolverType::SparseNormal : LinearSolverType::DenseNormal);
 	}

@@ -44,7 +44,8 @@ struct SolverOptions
 	double max_lm_diagonal = 1e32;
 	/** Linear solver. Default Auto. */
 	LinearSolverType linear_solver = LinearSolverType::Auto;
-	/** With Auto: reduced systems of at most this dimension use dense LDLT. Default 1500. */
+	/** With Auto: reduced systems of at most this dimension may use dense LDLT: always up to 200
+	 * unknowns, above that only when ≥ 25 % of the upper block triangle is non-zero. Default 1500. */
 	int dense_max_dim = 1500;
 	/** Threads for residual/Jacobian evaluation and Hessian/Schur assembly. Default 1. */
 	int num_threads = 1;
