@@ -1,4 +1,9 @@
 # Common compile flags and the swba_add_module() helper.
+include(GNUInstallDirs)
+
+# swba_build_flags: warning (and -Werror / sanitizer) flags for swba's own targets. It is a build-only
+# dependency: libraries link it as $<BUILD_INTERFACE:swba_build_flags> and it is not installed, so the
+# exported swba::<module> targets never carry these flags into a user's build.
 add_library(swba_build_flags INTERFACE)
 target_compile_options(swba_build_flags INTERFACE -Wall -Wextra -Wpedantic -Wshadow=local)
 if(SWBA_WERROR)
@@ -8,11 +13,13 @@ if(SWBA_SANITIZE)
   target_compile_options(swba_build_flags INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   target_link_options(swba_build_flags INTERFACE -fsanitize=address,undefined)
 endif()
-install(TARGETS swba_build_flags EXPORT swbaTargets)
 
-# swba_add_module(<name> DEPS <targets...>)
-#   Builds modules/<name>/src/*.cpp into the library swba_<name> (alias swba::<name>),
-#   public headers in modules/<name>/include/swba/<name>/.
+# swba_add_module(<name> DEPS <targets...> PRIVATE_DEPS <targets...>)
+#   Builds modules/<name>/src/*.cpp into the static library swba_<name> (alias swba::<name>, exported
+#   as swba::<name>), public headers in modules/<name>/include/swba/<name>/.
+#   DEPS: used by the public headers (propagated to users). PRIVATE_DEPS: used only by the sources;
+#   for a static library they still appear in the export as $<LINK_ONLY:...>, so each must be an
+#   imported target that swbaConfig.cmake finds (find_dependency) before including the targets.
 function(swba_add_module name)
   cmake_parse_arguments(ARG "" "" "DEPS;PRIVATE_DEPS" ${ARGN})
   file(GLOB_RECURSE srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/*.cpp)
@@ -25,9 +32,17 @@ function(swba_add_module name)
   set_target_properties(swba_${name} PROPERTIES EXPORT_NAME ${name} POSITION_INDEPENDENT_CODE ON)
   target_include_directories(swba_${name} PUBLIC
     $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
-    $<INSTALL_INTERFACE:include>)
-  target_link_libraries(swba_${name} PUBLIC ${ARG_DEPS} PRIVATE swba_build_flags ${ARG_PRIVATE_DEPS})
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_compile_features(swba_${name} PUBLIC cxx_std_17)
+  target_link_libraries(swba_${name} PUBLIC ${ARG_DEPS}
+    PRIVATE $<BUILD_INTERFACE:swba_build_flags> ${ARG_PRIVATE_DEPS})
+  if(SWBA_SANITIZE)  # objects built with sanitizers need the runtime at the user's link step
+    target_link_options(swba_${name} INTERFACE $<INSTALL_INTERFACE:-fsanitize=address,undefined>)
+  endif()
+  set_property(GLOBAL APPEND PROPERTY SWBA_MODULE_INCLUDE_DIRS "${name}=${CMAKE_CURRENT_SOURCE_DIR}/include")
   install(TARGETS swba_${name} EXPORT swbaTargets
-    ARCHIVE DESTINATION lib LIBRARY DESTINATION lib RUNTIME DESTINATION bin)
-  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION include)
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+    FILES_MATCHING PATTERN "*.h")
 endfunction()
