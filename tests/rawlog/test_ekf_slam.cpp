@@ -1,10 +1,11 @@
 // MRPT's EKF run in-process over the rawlog steps.
 #include <swba/estimators/ekf_slam.h>
 
+#include <swba/eval/trajectory.h>
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -172,49 +173,10 @@ TEST(EkfSlam, Runs2dDemo)
 	EXPECT_EQ(res.poses.size(), 249u);
 	EXPECT_NE(res.notes.find("sensor_std_pitch is 0"), std::string::npos) << res.notes;
 	// The 2D demo's ground truth: the estimate after step k pairs with row k + 1.
-	const auto gt = swba::io::read_ground_truth_path(kDatasets + "/kf-slam_demo_ground_truth_robot_path.txt");
+	const auto gt = swba::eval::read_mrpt_ground_truth(kDatasets + "/kf-slam_demo_ground_truth_robot_path.txt").poses;
 	ASSERT_EQ(gt.size(), 250u);
 	double sq = 0;
 	for (std::size_t k = 0; k < res.poses.size(); k++)
 		sq += std::pow(res.poses[k].distanceTo(gt[k + 1]), 2);
 	EXPECT_LT(std::sqrt(sq / double(res.poses.size())), 0.5);
-}
-
-// Measurement, not a test (disabled; run with --gtest_also_run_disabled_tests --gtest_filter='EkfSlamTiming.*'):
-// SWBA_EKF_RAWLOG=file [SWBA_EKF_GT=robot path file] [SWBA_EKF_INI=ini] [SWBA_EKF_METHOD=name]
-// [SWBA_EKF_STD_RANGE=m SWBA_EKF_STD_DEG=deg] [SWBA_EKF_MAX_STEPS=n] prints ms/step and the unaligned
-// translation RMSE against the ground truth (estimate after step k vs row k + 1).
-TEST(EkfSlamTiming, DISABLED_Report)
-{
-	const char* rawlog = std::getenv("SWBA_EKF_RAWLOG");
-	if (!rawlog) GTEST_SKIP() << "set SWBA_EKF_RAWLOG";
-	auto env = [](const char* name) -> const char* { return std::getenv(name); };
-	const auto t0 = std::chrono::steady_clock::now();
-	const auto log = swba::io::read_rawlog(rawlog);
-	const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-	swba::estimators::EkfSlamOptions opt;
-	if (env("SWBA_EKF_INI")) opt.ini_file = env("SWBA_EKF_INI");
-	if (env("SWBA_EKF_METHOD")) opt.method = std::string(env("SWBA_EKF_METHOD"));
-	if (env("SWBA_EKF_STD_RANGE")) opt.std_range_m = std::atof(env("SWBA_EKF_STD_RANGE"));
-	if (env("SWBA_EKF_STD_DEG")) opt.std_yaw_deg = opt.std_pitch_deg = std::atof(env("SWBA_EKF_STD_DEG"));
-	if (env("SWBA_EKF_MAX_STEPS")) opt.max_steps = std::size_t(std::atol(env("SWBA_EKF_MAX_STEPS")));
-	const auto r = swba::estimators::run_ekf_slam(log.steps, opt);
-	double rmse = -1;
-	if (env("SWBA_EKF_GT"))
-	{
-		const auto gt = swba::io::read_ground_truth_path(env("SWBA_EKF_GT"));
-		double sq = 0;
-		std::size_t n = 0;
-		for (std::size_t k = 0; k < r.poses.size() && k + 1 < gt.size(); k++, n++)
-			sq += std::pow(r.poses[k].distanceTo(gt[k + 1]), 2);
-		if (n) rmse = std::sqrt(sq / double(n));
-	}
-	std::printf(
-		"rawlog %s: %zu steps, %zu readings, %zu landmarks; read %.2f s\n"
-		"EKF %s, noise %.4g m / %.4g deg / %.4g deg: %zu/%zu steps, %.3f s, %.3f ms/step (CPU %.3f ms/step), map %zu landmarks, "
-		"%zu MRPT warnings%s%s; translation RMSE %.5f m\n",
-		rawlog, log.steps.size(), log.readings, log.distinct_landmarks, read_s, r.method.c_str(), r.std_range_m,
-		r.std_yaw_deg, r.std_pitch_deg, r.steps_processed, r.steps_total, r.seconds, r.ms_per_step, r.cpu_ms_per_step, r.landmarks,
-		r.mrpt_warnings, r.failed ? "; FAILED at step " : "",
-		r.failed ? (std::to_string(r.failed_step) + ": " + r.failure).c_str() : "", rmse);
 }

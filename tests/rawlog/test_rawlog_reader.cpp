@@ -1,4 +1,5 @@
 // Reader of MRPT rawlogs: the kf-slam demos and malformed inputs.
+#include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
 
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -25,6 +26,12 @@ using swba::io::RawlogReaderOptions;
 using swba::io::read_rawlog;
 
 const std::string kDatasets = SWBA_MRPT_DATASETS;
+
+/** The poses of an MRPT ground-truth robot path (row i = true pose at SF_i). */
+std::vector<mrpt::poses::CPose3D> ground_truth_poses(const std::string& path)
+{
+	return swba::eval::read_mrpt_ground_truth(path).poses;
+}
 
 /** A fresh temporary directory per test. */
 fs::path temp_dir()
@@ -217,21 +224,21 @@ TEST(RawlogReader, UnknownIdsRejectedWithReason)
 
 TEST(RawlogReader, GroundTruthPath)
 {
-	const auto gt = swba::io::read_ground_truth_path(kDatasets + "/kf-slam_6D_demo_ground_truth_robot_path.txt");
+	const auto gt = ground_truth_poses(kDatasets + "/kf-slam_6D_demo_ground_truth_robot_path.txt");
 	EXPECT_EQ(gt.size(), 600u);
 	const auto d = temp_dir();
 	write_bytes((d / "bad.txt").string(), "% comment\n0 0 0 0 0 0\n1 2 3 4 5\n");
 	try
 	{
-		swba::io::read_ground_truth_path((d / "bad.txt").string());
+		ground_truth_poses((d / "bad.txt").string());
 		FAIL() << "no exception";
 	}
 	catch (const std::runtime_error& e)
 	{
-		EXPECT_NE(std::string(e.what()).find("line 3"), std::string::npos) << e.what();
+		EXPECT_NE(std::string(e.what()).find("bad.txt:3:"), std::string::npos) << e.what();
 		EXPECT_NE(std::string(e.what()).find("found 5"), std::string::npos) << e.what();
 	}
-	EXPECT_THROW(swba::io::read_ground_truth_path((d / "missing.txt").string()), std::runtime_error);
+	EXPECT_THROW(ground_truth_poses((d / "missing.txt").string()), std::runtime_error);
 }
 
 TEST(RawlogReader, MissingFile)
@@ -377,7 +384,7 @@ TEST(RawlogReader, StepOdometryPairsWithGroundTruthRows)
 {
 	// Step k's odometry is the motion from GT row k to row k + 1 (noise σ 0.1° per angle).
 	const auto log = read_rawlog(kDatasets + "/kf-slam_6D_demo.rawlog");
-	const auto gt = swba::io::read_ground_truth_path(kDatasets + "/kf-slam_6D_demo_ground_truth_robot_path.txt");
+	const auto gt = ground_truth_poses(kDatasets + "/kf-slam_6D_demo_ground_truth_robot_path.txt");
 	ASSERT_EQ(gt.size(), log.steps.size() + 1);
 	const double right = odometry_vs_gt_rms(log, gt, 0);
 	EXPECT_LT(right, 0.1 * std::sqrt(3.0) * 1.5);
@@ -408,7 +415,7 @@ TEST(RawlogReader, GeneratedRawlogsIfPresent)
 		EXPECT_EQ(log.steps_with_odometry, e.steps);
 		EXPECT_NEAR(log.steps[0].sensor_std_range, e.std_range, 1e-7);
 		EXPECT_NEAR(log.steps[0].sensor_std_yaw, mrpt::DEG2RAD(e.std_angle_deg), 1e-7);
-		const auto gt = swba::io::read_ground_truth_path(dir + "/" + e.name + "_ground_truth_robot_path.txt");
+		const auto gt = ground_truth_poses(dir + "/" + e.name + "_ground_truth_robot_path.txt");
 		ASSERT_EQ(gt.size(), e.steps + 1);
 		EXPECT_LT(odometry_vs_gt_rms(log, gt, 0), 0.1 * std::sqrt(3.0) * 1.5);
 	}

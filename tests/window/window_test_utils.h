@@ -3,6 +3,7 @@
 
 #include <swba/estimators/sliding_window.h>
 #include <swba/eval/evaluation.h>
+#include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
 
 #include <string>
@@ -13,10 +14,7 @@ inline std::string dataset(const std::string& name) { return std::string(SWBA_MR
 
 inline eval::Trajectory ground_truth(const std::string& path)
 {
-	const auto poses = io::read_ground_truth_path(path);
-	eval::Trajectory t;
-	for (std::size_t i = 0; i < poses.size(); i++) t.push_back(static_cast<double>(i), poses[i]);
-	return t;
+	return eval::read_mrpt_ground_truth(path);  // row i has t = i
 }
 
 inline double ape_trans_rmse(const eval::Trajectory& gt, const eval::Trajectory& est)

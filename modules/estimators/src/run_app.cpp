@@ -3,6 +3,7 @@
 #include <swba/estimators/run_app.h>
 #include <swba/estimators/sliding_window.h>
 #include <swba/eval/evaluation.h>
+#include <swba/eval/trajectory.h>
 
 #include <mrpt/system/filesystem.h>
 #include <unistd.h>
@@ -128,7 +129,7 @@ std::string default_ground_truth_path(const std::string& rawlog_path)
 
 std::vector<mrpt::poses::CPose3D> read_ground_truth_for(const std::string& path, std::size_t steps)
 {
-	auto rows = io::read_ground_truth_path(path);
+	const std::vector<mrpt::poses::CPose3D> rows = eval::read_mrpt_ground_truth(path).poses;
 	if (rows.size() < steps + 1)
 		throw std::runtime_error("ground truth '" + path + "': " + std::to_string(rows.size()) +
 								 " rows, but the rawlog has " + std::to_string(steps) + " steps and needs " +

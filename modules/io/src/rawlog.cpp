@@ -362,36 +362,4 @@ Rawlog read_rawlog(const std::string& path, const RawlogReaderOptions& options)
 	return r.run();
 }
 
-std::vector<mrpt::poses::CPose3D> read_ground_truth_path(const std::string& path)
-{
-	std::ifstream in(path);
-	if (!in) throw std::runtime_error("ground-truth path '" + path + "': cannot open (missing or unreadable)");
-	std::vector<mrpt::poses::CPose3D> poses;
-	std::string line;
-	std::size_t lineno = 0;
-	while (std::getline(in, line))
-	{
-		lineno++;
-		const auto b = line.find_first_not_of(" \t\r");
-		if (b == std::string::npos || line[b] == '%' || line[b] == '#') continue;
-		std::istringstream ss(line);
-		std::vector<double> v;
-		std::string tok;
-		while (ss >> tok)
-		{
-			char* end = nullptr;
-			const double x = std::strtod(tok.c_str(), &end);
-			if (end == tok.c_str() || *end != '\0' || !std::isfinite(x))
-				throw std::runtime_error("ground-truth path '" + path + "' line " + std::to_string(lineno) +
-										 ": '" + tok + "' is not a finite number");
-			v.push_back(x);
-		}
-		if (v.size() != 6)
-			throw std::runtime_error("ground-truth path '" + path + "' line " + std::to_string(lineno) +
-									 ": expected 6 columns (x y z yaw pitch roll), found " + std::to_string(v.size()));
-		poses.emplace_back(v[0], v[1], v[2], v[3], v[4], v[5]);
-	}
-	if (poses.empty()) throw std::runtime_error("ground-truth path '" + path + "': no pose rows");
-	return poses;
-}
 }  // namespace swba::io

@@ -114,10 +114,7 @@ Rawlog read_rawlog(const std::string& path, const RawlogReaderOptions& options =
  * "Location: …", call stack) the message and "File.cpp:line"; otherwise the first non-empty line. */
 std::string mrpt_exception_summary(const std::string& what);
 
-/** Reads an MRPT ground-truth robot path (`%` comment lines, then `x y z yaw pitch roll` per row;
- * row i is the true pose when SF_i was taken, time t = i). Throws std::runtime_error naming the file
- * and line on a missing file, a row with a column count other than 6, or a non-finite value. */
-std::vector<mrpt::poses::CPose3D> read_ground_truth_path(const std::string& path);
+/* MRPT ground-truth robot paths are read by swba::eval::read_mrpt_ground_truth (swba/eval/trajectory.h). */
 
 /** J = ∂ Log(Z⁻¹ · Z(ypr + d)) / ∂d at d = 0, for Z = `mean`, d a perturbation of MRPT's
  * (x, y, z, yaw, pitch, roll) parameters and Log MRPT's pseudo-log [ρ, ω] (Lie::SE<3>::log).
