@@ -1,5 +1,6 @@
 // swba pgo: pose-graph optimisation of a g2o file (3D VERTEX_SE3:QUAT/EDGE_SE3:QUAT or 2D SE2).
 #include <swba/io/g2o.h>
+#include <swba/io/g2o_init.h>
 #include <swba/nonlinear/solver.h>
 
 #include <iostream>
@@ -11,6 +12,9 @@ namespace
 {
 /** With --linear auto: dense LDLT only up to this many unknowns (see doc/pgo.md). */
 constexpr int kPoseGraphDenseMaxDim = 200;
+/** Initial LM trust-region radius: a nearly Gauss-Newton first step (see doc/pgo.md, measured on the four
+ * shipped graphs with every --init). LM still shrinks it after a rejected step. */
+constexpr double kPoseGraphInitialTrustRegion = 1e12;
 
 int run_pgo(int argc, char** argv)
 {
@@ -41,18 +45,28 @@ int run_pgo(int argc, char** argv)
 										false, 1e-3, "SIGMA", cmd);
 	TCLAP::ValueArg<double> function_tolerance(
 		"", "function-tolerance", "stop when |dcost|/cost falls below (default 1e-6)", false, 1e-6, "TOL", cmd);
+	TCLAP::ValueArg<double> initial_radius(
+		"", "initial-trust-region", "initial LM trust-region radius mu0, damping 1/mu0 (default 1e12; Ceres uses 1e4)",
+		false, kPoseGraphInitialTrustRegion, "MU0", cmd);
 	TCLAP::ValueArg<std::string> rotation_error(
 		"", "rotation-error",
 		"3D rotation error: g2o = 2 vec(q_ab^-1 q_a^-1 q_b), ceres = 2 vec(q_ab (q_a^-1 q_b)^-1) as Ceres's "
 		"pose_graph_3d example (default g2o)",
 		false, "g2o", "g2o|ceres", cmd);
+	TCLAP::ValueArg<std::string> init(
+		"", "init",
+		"initial values: chordal = chordal-relaxation rotations, then positions by linear least squares; "
+		"odometry = poses composed along the odometry spanning tree; file = the values as read (default chordal)",
+		false, "chordal", "chordal|odometry|file", cmd);
 	TCLAP::SwitchArg quiet("q", "quiet", "do not print the per-iteration table", cmd);
 	if (auto rc = swba::app::parse_command_line(cmd, argc, argv)) return *rc;
 
 	swba::io::PoseGraphProblemOptions po;
+	swba::io::PoseGraphInitOptions io;
 	swba::SolverOptions so;
 	try
 	{
+		io.method = swba::io::parse_pose_graph_init(init.getValue());
 		po.gauge = swba::io::parse_pose_graph_gauge(gauge.getValue());
 		po.prior_sigma = prior_sigma.getValue();
 		po.rotation_error = swba::io::parse_rotation_error(rotation_error.getValue());
@@ -76,6 +90,7 @@ int run_pgo(int argc, char** argv)
 	so.max_iterations = max_iterations.getValue();
 	so.num_threads = threads.getValue();
 	so.function_tolerance = function_tolerance.getValue();
+	so.initial_trust_region_radius = initial_radius.getValue();
 	so.progress_to_stdout = !quiet.getValue();
 	if (std::string why; !so.is_valid(&why)) throw swba::app::UsageError(why);
 
@@ -85,6 +100,9 @@ int run_pgo(int argc, char** argv)
 	std::cout << "Pose graph " << input.getValue() << ": " << graph.num_vertices() << " vertices, "
 			  << graph.num_edges() << " edges (" << (graph.is_2d() ? "2D SE2" : "3D SE3:QUAT") << "), "
 			  << graph.fixed.size() << " FIX\n";
+	io.rotation_error = po.rotation_error;
+	const auto init_summary = swba::io::initialize_pose_graph(graph, io);
+	std::cout << "Initialisation " << init_summary.brief() << "\n";
 	auto pp = swba::io::build_pose_graph_problem(graph, po);
 	std::cout << "Gauge: " << gauge.getValue() << " (" << pp.num_constant << " constant vertices"
 			  << (pp.has_prior ? ", prior on the first vertex" : "") << ")\n";

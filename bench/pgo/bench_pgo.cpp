@@ -3,10 +3,11 @@
 // mrpt-graphslam), in one run. Every final cost is re-evaluated with swba::io::pose_graph_cost, the
 // reference ½ Σ rᵀΛr of doc/pgo.md, so the numbers are comparable whatever each solver reports.
 //
-// Usage: swba_bench_pgo [--threads N] [--max-iterations K] [--repeat R] [--mrpt-max-iterations K]
-//                       [--no-mrpt] [--no-ceres] [graph.g2o ...]
+// Usage: swba_bench_pgo [--threads N] [--max-iterations K] [--repeat R] [--mrpt-max-iterations K] [--init LIST]
+//                       [--initial-trust-region MU0] [--no-ceres-tr] [--no-mrpt] [--no-ceres] [graph.g2o ...]
 // Without graphs: sphere2500, parking-garage, smallGrid3D and intel from SWBA_DATA_DIR/posegraph.
 #include <swba/io/g2o.h>
+#include <swba/io/g2o_init.h>
 #include <swba/nonlinear/solver.h>
 
 #include <algorithm>
@@ -44,9 +45,12 @@ struct Settings
 	int max_iterations = 100;
 	int repeat = 1;
 	int mrpt_max_iterations = 100;
+	double initial_trust_region = 1e12;  // swba's rows (as swba pgo) and the ceres:tr row
+	bool run_ceres_tr = true;
 	bool run_ceres = true;
 	bool run_mrpt = true;
 	std::vector<swba::RotationError> models = {swba::RotationError::G2o, swba::RotationError::CeresExample};
+	std::vector<swba::io::PoseGraphInit> inits = {swba::io::PoseGraphInit::Chordal, swba::io::PoseGraphInit::Odometry};
 	std::vector<std::string> graphs;
 };
 
@@ -57,6 +61,8 @@ struct Result
 	double reported_cost = -1;  // what the solver itself reports (its own definition)
 	int iterations = 0;
 	double setup_s = 0, solve_s = 0;
+	double init_s = 0;          // initialisation, included in solve_s
+	double start_cost = -1;     // pose_graph_cost where the solver starts (after the initialisation)
 	std::string note;
 	PoseGraph solution;  // the solver's output (for re-evaluation under another model)
 };
@@ -64,14 +70,22 @@ struct Result
 const char* model_name(swba::RotationError m) { return m == swba::RotationError::G2o ? "g2o" : "ceres"; }
 
 // ---------------------------------------------------------------- swba
-Result run_swba(const PoseGraph& input, const Settings& s, swba::RotationError model)
+Result run_swba(const PoseGraph& input, const Settings& s, swba::RotationError model, swba::io::PoseGraphInit init)
 {
 	Result r;
-	r.solver = "swba";
+	r.solver = "swba:" + swba::io::to_string(init).substr(0, 4);
 	for (int rep = 0; rep < s.repeat; rep++)
 	{
 		PoseGraph g = input;
+		// The initialisation is timed as part of the solve (it replaces LM iterations).
 		auto t0 = Clock::now();
+		swba::io::PoseGraphInitOptions io;
+		io.method = init;
+		io.rotation_error = model;
+		const auto init_summary = swba::io::initialize_pose_graph(g, io);
+		const double init_s = seconds_since(t0);
+		const double start_cost = swba::io::pose_graph_cost(g, model);
+		t0 = Clock::now();
 		swba::io::PoseGraphProblemOptions po;
 		po.rotation_error = model;
 		auto pp = swba::io::build_pose_graph_problem(g, po);
@@ -80,19 +94,22 @@ Result run_swba(const PoseGraph& input, const Settings& s, swba::RotationError m
 		o.max_iterations = s.max_iterations;
 		o.num_threads = s.threads;
 		o.dense_max_dim = 200;  // as swba pgo: sparse Cholesky beyond 200 unknowns
+		o.initial_trust_region_radius = s.initial_trust_region;  // as swba pgo
 		t0 = Clock::now();
 		const auto summary = swba::solve(pp.problem, o);
-		const double solve = seconds_since(t0);
+		const double solve = init_s + seconds_since(t0);
 		swba::io::update_pose_graph(g, pp);
 		if (rep == 0 || solve < r.solve_s)
 		{
 			r.setup_s = setup;
 			r.solve_s = solve;
+			r.init_s = init_s;
 		}
+		r.start_cost = start_cost;
 		r.final_cost = swba::io::pose_graph_cost(g, model);
 		r.reported_cost = summary.final_cost;
 		r.iterations = summary.iterations;
-		r.note = summary.brief_report();
+		r.note = init_summary.brief() + "; " + summary.brief_report();
 		r.solution = g;
 	}
 	return r;
@@ -160,10 +177,11 @@ struct ReferencePose2dCost
 	Eigen::Matrix3d W;
 };
 
-Result run_ceres(const PoseGraph& input, const Settings& s, swba::RotationError model)
+/** Ceres with its default options, or (`initial_trust_region` > 0) with that initial radius. */
+Result run_ceres(const PoseGraph& input, const Settings& s, swba::RotationError model, double initial_trust_region)
 {
 	Result res;
-	res.solver = "ceres";
+	res.solver = initial_trust_region > 0 ? "ceres:tr" : "ceres";
 	for (int rep = 0; rep < s.repeat; rep++)
 	{
 		PoseGraph g = input;
@@ -217,6 +235,11 @@ Result run_ceres(const PoseGraph& input, const Settings& s, swba::RotationError 
 		o.max_num_iterations = s.max_iterations;
 		o.num_threads = s.threads;
 		o.minimizer_progress_to_stdout = false;
+		if (initial_trust_region > 0)
+		{
+			o.initial_trust_region_radius = initial_trust_region;
+			o.max_trust_region_radius = std::max(o.max_trust_region_radius, initial_trust_region);
+		}
 		ceres::Solver::Summary summary;
 		t0 = Clock::now();
 		ceres::Solve(o, &problem, &summary);
@@ -349,7 +372,11 @@ int main(int argc, char** argv)
 	Settings s;
 	const char* usage =
 		"usage: swba_bench_pgo [--threads N] [--max-iterations K] [--repeat R] [--mrpt-max-iterations K]\n"
-		"                      [--model g2o|ceres|both] [--no-mrpt] [--no-ceres] [graph.g2o ...]\n";
+		"                      [--model g2o|ceres|both] [--init LIST] [--initial-trust-region MU0] [--no-ceres-tr]\n"
+		"                      [--no-mrpt] [--no-ceres] [graph.g2o ...]\n"
+		"  --init: comma-separated swba initialisations among chordal, odometry, file (default chordal,odometry)\n"
+		"  --initial-trust-region: swba's initial LM radius (default 1e12, as swba pgo), also used by the ceres:tr row\n"
+		"  --no-ceres-tr: omit the ceres:tr row (Ceres from the file with swba's initial radius)\n";
 	for (int i = 1; i < argc; i++)
 	{
 		const std::string a = argv[i];
@@ -376,6 +403,35 @@ int main(int argc, char** argv)
 				return 2;
 			}
 		}
+		else if (a == "--init")
+		{
+			s.inits.clear();
+			std::string list = next();
+			for (size_t pos = 0; pos <= list.size();)
+			{
+				const size_t comma = std::min(list.find(',', pos), list.size());
+				try
+				{
+					s.inits.push_back(swba::io::parse_pose_graph_init(list.substr(pos, comma - pos)));
+				}
+				catch (const std::invalid_argument& e)
+				{
+					std::fprintf(stderr, "swba_bench_pgo: --init: %s\n", e.what());
+					return 2;
+				}
+				pos = comma + 1;
+			}
+		}
+		else if (a == "--initial-trust-region")
+		{
+			s.initial_trust_region = std::atof(next());
+			if (!(s.initial_trust_region > 0))
+			{
+				std::fprintf(stderr, "swba_bench_pgo: --initial-trust-region needs a positive number\n");
+				return 2;
+			}
+		}
+		else if (a == "--no-ceres-tr") s.run_ceres_tr = false;
 		else if (a == "--no-mrpt") s.run_mrpt = false;
 		else if (a == "--no-ceres") s.run_ceres = false;
 		else if (a == "--help" || a == "-h")
@@ -409,9 +465,16 @@ int main(int argc, char** argv)
 	);
 	std::printf("final cost = 1/2 sum r^T Lambda r of the model's residual (doc/pgo.md), recomputed for every solver;\n"
 				"model g2o: rotation error 2 vec(q_ab^-1 q_a^-1 q_b); model ceres: 2 vec(q_ab (q_a^-1 q_b)^-1)\n"
-				"(2D graphs have one model). Times: solve only (setup = building the solver's problem).\n\n");
-	std::printf("%-15s %-5s %-6s %13s %16s %16s %5s %8s %8s %10s\n", "graph", "model", "solver", "initial cost",
-				"final cost", "solver's cost", "iters", "setup[s]", "solve[s]", "ours/ceres");
+				"(2D graphs have one model). Times: wall clock, best of the repeats; setup = building the solver's\n"
+				"problem (not in solve). swba:chor / swba:odom / swba:file = swba::solve started from the chordal\n"
+				"initialisation / odometry composition / the file's values; for swba, solve[s] INCLUDES the\n"
+				"initialisation (init[s]). ceres and mrpt start from the file's values; ceres = Ceres's default options\n"
+				"(initial trust region 1e4), ceres:tr = Ceres with swba's initial trust region (%.0e).\n"
+				"ours/ceres = swba's solve[s] (initialisation + LM) / the 'ceres' row's Solve() time (default options),\n"
+				"same model. start cost = cost where the solver starts.\n\n",
+				s.initial_trust_region);
+	std::printf("%-15s %-5s %-9s %13s %16s %16s %5s %8s %8s %8s %10s\n", "graph", "model", "solver", "start cost",
+				"final cost", "solver's cost", "iters", "setup[s]", "init[s]", "solve[s]", "ours/ceres");
 	int rc = 0;
 	for (const auto& path : s.graphs)
 	{
@@ -441,9 +504,10 @@ int main(int argc, char** argv)
 			const char* mname = g.is_2d() ? "2d" : model_name(model);
 			const double initial = swba::io::pose_graph_cost(g, model);
 			std::vector<Result> results;
-			results.push_back(run_swba(g, s, model));
+			for (const auto init : s.inits) results.push_back(run_swba(g, s, model, init));
 #ifdef SWBA_BENCH_HAVE_CERES
-			if (s.run_ceres) results.push_back(run_ceres(g, s, model));
+			if (s.run_ceres) results.push_back(run_ceres(g, s, model, -1));
+			if (s.run_ceres && s.run_ceres_tr) results.push_back(run_ceres(g, s, model, s.initial_trust_region));
 #endif
 			if (!mrpt.solver.empty())
 			{
@@ -456,24 +520,31 @@ int main(int argc, char** argv)
 			for (const auto& r : results)
 			{
 				char ratio[32] = "";
-				if (ceres && r.solver == "swba" && ceres->solve_s > 0)
+				const bool ours = r.solver.rfind("swba", 0) == 0;
+				if (ceres && ours && ceres->solve_s > 0)
 					std::snprintf(ratio, sizeof ratio, "%.2f", r.solve_s / ceres->solve_s);
+				const double start = r.start_cost >= 0 ? r.start_cost : initial;
+				char init_s[16] = "-";
+				if (ours) std::snprintf(init_s, sizeof init_s, "%.3f", r.init_s);
 				if (r.final_cost < 0)
-					std::printf("%-15s %-5s %-6s %13.6e %16s %16s %5s %8s %8s %10s  %s\n", name.c_str(), mname,
-								r.solver.c_str(), initial, "-", "-", "-", "-", "-", "", r.note.c_str());
+					std::printf("%-15s %-5s %-9s %13.6e %16s %16s %5s %8s %8s %8s %10s  %s\n", name.c_str(), mname,
+								r.solver.c_str(), start, "-", "-", "-", "-", "-", "-", "", r.note.c_str());
 				else
-					std::printf("%-15s %-5s %-6s %13.6e %16.10g %16.10g %5d %8.3f %8.3f %10s\n", name.c_str(), mname,
-								r.solver.c_str(), initial, r.final_cost, r.reported_cost, r.iterations, r.setup_s,
-								r.solve_s, ratio);
+					std::printf("%-15s %-5s %-9s %13.6e %16.10g %16.10g %5d %8.3f %8s %8.3f %10s\n", name.c_str(),
+								mname, r.solver.c_str(), start, r.final_cost, r.reported_cost, r.iterations, r.setup_s,
+								init_s, r.solve_s, ratio);
 				if (!r.note.empty() && r.final_cost >= 0)
 					notes.push_back(name + " " + mname + " " + r.solver + ": " + r.note);
 			}
 			if (ceres && ceres->final_cost > 0)
-			{
-				char buf[64];
-				std::snprintf(buf, sizeof buf, "%+.2e", (results[0].final_cost - ceres->final_cost) / ceres->final_cost);
-				notes.push_back(name + " " + mname + ": relative final-cost difference swba vs ceres " + buf);
-			}
+				for (const auto& r : results)
+					if (r.solver.rfind("swba", 0) == 0)
+					{
+						char buf[64];
+						std::snprintf(buf, sizeof buf, "%+.2e", (r.final_cost - ceres->final_cost) / ceres->final_cost);
+						notes.push_back(name + " " + mname + ": relative final-cost difference " + r.solver + " vs ceres " +
+										buf);
+					}
 			std::fflush(stdout);
 		}
 		for (const auto& n : notes) std::printf("    %s\n", n.c_str());
