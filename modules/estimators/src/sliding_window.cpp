@@ -73,6 +73,9 @@ struct Landmark
 	std::int32_t id;
 	VariableId var;
 	std::size_t anchor_step = 0;  // inverse depth only
+	/** Inverse-depth mode: the landmark was in the marginal prior when its anchor left the window, so it
+	 * was switched to world XYZ (a parameterisation no later marginalisation has to change). */
+	bool world_xyz = false;
 	std::vector<Observation> obs;  // observations whose factors are still in the problem
 };
 
@@ -140,6 +143,12 @@ struct SlidingWindowEstimator::Impl
 		(*fej)[v] = problem.variable(v).value;
 	}
 
+	bool is_world_xyz_landmark(VariableId v) const
+	{
+		auto it = landmark_of_var.find(v);
+		return it != landmark_of_var.end() && landmarks.at(it->second).world_xyz;
+	}
+
 	const double* fej_or_current(VariableId v) const
 	{
 		auto it = fej->find(v);
@@ -164,7 +173,7 @@ struct SlidingWindowEstimator::Impl
 		std::shared_ptr<Factor> f;
 		std::vector<VariableId> vars;
 		const auto& P = poses[o.pose_step];
-		if (opt.landmarks == LandmarkParameterization::Xyz)
+		if (opt.landmarks == LandmarkParameterization::Xyz || lm.world_xyz)
 		{
 			f = std::make_shared<RangeBearingXyzFactor>(o.z, P.sensor);
 			vars = {P.var, lm.var};
@@ -224,6 +233,58 @@ struct SlidingWindowEstimator::Impl
 		prior.vars.push_back(v);
 		prior.x_lin.push_back(problem.variable(v).value);
 		return static_cast<int>(prior.vars.size()) - 1;
+	}
+
+	/** Switches inverse-depth landmark `lm`, which is in the marginal prior and whose anchor a is about
+	 * to be marginalised, to world XYZ p: an exact rewrite of its factors, and a first-order change of
+	 * variables λ = g(T_a, p) (p seen from a's sensor, as inverse depth) in the prior, at the first
+	 * estimates. T_a is marginalised right after, so the prior never depends on a re-anchoring again:
+	 * a landmark in the prior changes parameterisation once, not every time its anchor leaves. */
+	void convert_to_world_xyz(Landmark& lm)
+	{
+		const std::size_t a = lm.anchor_step;
+		const VariableId va = poses[a].var, vl = lm.var;
+		const Eigen::Vector3d lam = Eigen::Map<const Eigen::Vector3d>(problem.value(vl));
+		const Eigen::Vector3d p = inverse_depth_to_world(problem.value(va), poses[a].sensor, lam);
+		const VariableId vp = problem.add_variable(p, euclidean_manifold(3), Group::Eliminable);
+
+		const int pidx = prior_index(vl);
+		freeze(va);
+		const int ia = ensure_in_prior(va);
+		const Eigen::Vector3d lam_lin = Eigen::Map<const Eigen::Vector3d>(prior.x_lin[pidx].data());
+		const Eigen::Vector3d p_lin = inverse_depth_to_world(prior.x_lin[ia].data(), poses[a].sensor, lam_lin);
+		// Jacobians at the first estimates (or the current values without FEJ).
+		const double* Ta_f = fej_or_current(va);
+		const Eigen::Vector3d lam_f = Eigen::Map<const Eigen::Vector3d>(fej_or_current(vl));
+		const Eigen::Vector3d p_f = inverse_depth_to_world(Ta_f, poses[a].sensor, lam_f);
+		RangeBearingXyzFactor h_of({1.0, 0.0, 0.0}, poses[a].sensor);  // h = [range, yaw, pitch] − [1, 0, 0]
+		Eigen::Matrix<double, 3, 6, Eigen::RowMajor> Ha;
+		Eigen::Matrix<double, 3, 3, Eigen::RowMajor> Hp;
+		Eigen::Vector3d r;
+		const double* xs[2] = {Ta_f, p_f.data()};
+		double* js[2] = {Ha.data(), Hp.data()};
+		if (!h_of.evaluate(xs, r.data(), js))
+			throw std::runtime_error("landmark " + std::to_string(lm.id) + ": range-bearing model undefined at its anchor");
+		const double range = r[0] + 1.0;
+		Eigen::Matrix3d D;  // ∂λ/∂h for λ = [yaw, pitch, 1/range]
+		D << 0, 1, 0, 0, 0, 1, -1.0 / (range * range), 0, 0;
+		const int ol = prior_offset(pidx), oa = prior_offset(ia);
+		const Eigen::MatrixXd Jl = prior.J.middleCols(ol, 3);
+		prior.J.middleCols(oa, 6) += Jl * D * Ha;
+		prior.J.middleCols(ol, 3) = Jl * D * Hp;
+		prior.vars[pidx] = vp;
+		prior.x_lin[pidx] = std::vector<double>(p_lin.data(), p_lin.data() + 3);
+		if (opt.first_estimate_jacobians) (*fej)[vp] = std::vector<double>(p_f.data(), p_f.data() + 3);
+		set_prior(prior);
+
+		for (auto& o : lm.obs) problem.remove_factor(o.factor);
+		fej->erase(vl);
+		landmark_of_var.erase(vl);
+		problem.remove_variable(vl);
+		lm.var = vp;
+		lm.world_xyz = true;
+		landmark_of_var[vp] = lm.id;
+		for (auto& o : lm.obs) o.factor = add_observation_factor(lm, o);
 	}
 
 	/** Re-anchors inverse-depth landmark `lm` to pose step `b`: an exact rewrite of its factors, and
@@ -353,9 +414,15 @@ struct SlidingWindowEstimator::Impl
 				marg.insert(lm.var);
 				continue;
 			}
-			if (opt.landmarks == LandmarkParameterization::InverseDepth && lm.anchor_step == o)
+			if (opt.landmarks == LandmarkParameterization::InverseDepth && !lm.world_xyz && lm.anchor_step == o)
 			{
-				reanchor(lm, seen_in_window ? newest : window.back());
+				if (prior.factor >= 0 && prior_index(lm.var) >= 0)
+				{
+					convert_to_world_xyz(lm);
+					sum.landmarks_to_world++;
+				}
+				else
+					reanchor(lm, seen_in_window ? newest : window.back());
 				sum.reanchored++;
 			}
 		}
@@ -479,7 +546,7 @@ std::map<std::int32_t, Eigen::Vector3d> SlidingWindowEstimator::landmarks() cons
 	for (const auto& [id, lm] : impl_->landmarks)
 	{
 		const Eigen::Vector3d x = Eigen::Map<const Eigen::Vector3d>(impl_->problem.value(lm.var));
-		if (impl_->opt.landmarks == LandmarkParameterization::Xyz)
+		if (impl_->opt.landmarks == LandmarkParameterization::Xyz || lm.world_xyz)
 			out[id] = x;
 		else
 		{
@@ -539,13 +606,13 @@ Eigen::MatrixXd SlidingWindowEstimator::prior_gauge_directions() const
 			N.block<3, 3>(off, 3) = -Rt * skew(T.col(3));
 			N.block<3, 3>(off + 3, 3) = Rt;
 		}
-		else if (I.opt.landmarks == LandmarkParameterization::Xyz)
+		else if (I.opt.landmarks == LandmarkParameterization::Xyz || I.is_world_xyz_landmark(v))
 		{
 			const Eigen::Vector3d p(x[0], x[1], x[2]);
 			N.block<3, 3>(off, 0) = Eigen::Matrix3d::Identity();
 			N.block<3, 3>(off, 3) = -skew(p);
 		}
-		// Inverse-depth landmarks are anchor-relative: invariant under a global motion.
+		// Inverse-depth landmarks (still anchored) are anchor-relative: invariant under a global motion.
 		off += var.manifold->tangent_size();
 	}
 	return N;

@@ -30,7 +30,12 @@ namespace swba::estimators
 {
 enum class LandmarkParameterization
 {
-	InverseDepth,  ///< [azimuth, elevation, inverse range] in the anchor pose's sensor frame
+	/** [azimuth, elevation, inverse range] in the anchor (first observing) pose's sensor frame. When the
+	 * anchor leaves the window a landmark not yet in the marginal prior is re-anchored exactly (its
+	 * factors rewritten) to the newest pose that observes it; one already in the prior is switched to
+	 * world XYZ by a first-order change of variables in the prior (once: repeated re-anchoring of
+	 * prior landmarks compounded linearisation errors until the window diverged on dense maps). */
+	InverseDepth,
 	Xyz            ///< world point
 };
 
@@ -93,7 +98,8 @@ struct StepSummary
 	int prior_rank = 0;             ///< rows of the marginal prior (0: none)
 	int prior_variables = 0;
 	int readings = 0;               ///< observations added this step
-	int reanchored = 0;             ///< landmarks re-anchored this step
+	int reanchored = 0;             ///< landmarks re-anchored this step (including those switched to world XYZ)
+	int landmarks_to_world = 0;     ///< of these, landmarks in the prior switched to world XYZ (inverse depth only)
 	int marginalized_landmarks = 0; ///< landmarks marginalised this step (ConstantTime)
 };
 
