@@ -20,3 +20,16 @@ add_test(NAME pgo.cli_malformed_file_names_line
   COMMAND $<TARGET_FILE:swba> pgo ${CMAKE_CURRENT_BINARY_DIR}/pgo_bad_number.g2o)
 set_tests_properties(pgo.cli_malformed_file_names_line PROPERTIES
   PASS_REGULAR_EXPRESSION "error: .*pgo_bad_number.g2o:3: EDGE_SE3:QUAT: field 30 \\('1x'\\) is not a finite number")
+add_test(NAME pgo.cli_init_odometry
+  COMMAND $<TARGET_FILE:swba> pgo ${_pgo_data}/smallGrid3D.g2o --init odometry -q)
+set_tests_properties(pgo.cli_init_odometry PROPERTIES
+  PASS_REGULAR_EXPRESSION "Initialisation odometry: 1 component.*Final cost: ")
+add_test(NAME pgo.cli_init_chordal_default
+  COMMAND $<TARGET_FILE:swba> pgo ${_pgo_data}/intel.g2o -q)
+set_tests_properties(pgo.cli_init_chordal_default PROPERTIES
+  PASS_REGULAR_EXPRESSION "Initialisation chordal: 1 component.*Final cost: ")
+add_test(NAME pgo.cli_bad_init COMMAND $<TARGET_FILE:swba> pgo ${_pgo_data}/smallGrid3D.g2o --init spanning)
+set_tests_properties(pgo.cli_bad_init PROPERTIES WILL_FAIL TRUE)
+add_test(NAME pgo.cli_bad_initial_trust_region
+  COMMAND $<TARGET_FILE:swba> pgo ${_pgo_data}/smallGrid3D.g2o --initial-trust-region 0)
+set_tests_properties(pgo.cli_bad_initial_trust_region PROPERTIES WILL_FAIL TRUE)
