@@ -50,7 +50,9 @@ struct Settings
 	bool run_ceres = true;
 	bool run_mrpt = true;
 	std::vector<swba::RotationError> models = {swba::RotationError::G2o, swba::RotationError::CeresExample};
-	std::vector<swba::io::PoseGraphInit> inits = {swba::io::PoseGraphInit::Chordal, swba::io::PoseGraphInit::Odometry};
+	/** swba rows: (method, solve positions — chordal only: false = chordal rotations + odometry positions). */
+	std::vector<std::pair<swba::io::PoseGraphInit, bool>> inits = {{swba::io::PoseGraphInit::Chordal, true},
+																   {swba::io::PoseGraphInit::Odometry, true}};
 	std::vector<std::string> graphs;
 };
 
@@ -70,10 +72,11 @@ struct Result
 const char* model_name(swba::RotationError m) { return m == swba::RotationError::G2o ? "g2o" : "ceres"; }
 
 // ---------------------------------------------------------------- swba
-Result run_swba(const PoseGraph& input, const Settings& s, swba::RotationError model, swba::io::PoseGraphInit init)
+Result run_swba(const PoseGraph& input, const Settings& s, swba::RotationError model, swba::io::PoseGraphInit init,
+				bool solve_positions)
 {
 	Result r;
-	r.solver = "swba:" + swba::io::to_string(init).substr(0, 4);
+	r.solver = "swba:" + swba::io::to_string(init).substr(0, 4) + (solve_positions ? "" : "-r");
 	for (int rep = 0; rep < s.repeat; rep++)
 	{
 		PoseGraph g = input;
@@ -81,6 +84,7 @@ Result run_swba(const PoseGraph& input, const Settings& s, swba::RotationError m
 		auto t0 = Clock::now();
 		swba::io::PoseGraphInitOptions io;
 		io.method = init;
+		io.solve_positions = solve_positions;
 		io.rotation_error = model;
 		const auto init_summary = swba::io::initialize_pose_graph(g, io);
 		const double init_s = seconds_since(t0);
@@ -374,7 +378,8 @@ int main(int argc, char** argv)
 		"usage: swba_bench_pgo [--threads N] [--max-iterations K] [--repeat R] [--mrpt-max-iterations K]\n"
 		"                      [--model g2o|ceres|both] [--init LIST] [--initial-trust-region MU0] [--no-ceres-tr]\n"
 		"                      [--no-mrpt] [--no-ceres] [graph.g2o ...]\n"
-		"  --init: comma-separated swba initialisations among chordal, odometry, file (default chordal,odometry)\n"
+		"  --init: comma-separated swba initialisations among chordal, odometry, file, chordal-rot (chordal rotations,\n"
+		"          positions composed along the odometry tree) (default chordal,odometry)\n"
 		"  --initial-trust-region: swba's initial LM radius (default 1e12, as swba pgo), also used by the ceres:tr row\n"
 		"  --no-ceres-tr: omit the ceres:tr row (Ceres from the file with swba's initial radius)\n";
 	for (int i = 1; i < argc; i++)
@@ -412,7 +417,9 @@ int main(int argc, char** argv)
 				const size_t comma = std::min(list.find(',', pos), list.size());
 				try
 				{
-					s.inits.push_back(swba::io::parse_pose_graph_init(list.substr(pos, comma - pos)));
+					const std::string name = list.substr(pos, comma - pos);
+					if (name == "chordal-rot") s.inits.emplace_back(swba::io::PoseGraphInit::Chordal, false);
+					else s.inits.emplace_back(swba::io::parse_pose_graph_init(name), true);
 				}
 				catch (const std::invalid_argument& e)
 				{
@@ -467,7 +474,8 @@ int main(int argc, char** argv)
 				"model g2o: rotation error 2 vec(q_ab^-1 q_a^-1 q_b); model ceres: 2 vec(q_ab (q_a^-1 q_b)^-1)\n"
 				"(2D graphs have one model). Times: wall clock, best of the repeats; setup = building the solver's\n"
 				"problem (not in solve). swba:chor / swba:odom / swba:file = swba::solve started from the chordal\n"
-				"initialisation / odometry composition / the file's values; for swba, solve[s] INCLUDES the\n"
+				"initialisation / odometry composition / the file's values (swba:chor-r: chordal rotations, odometry-\n"
+				"composed positions); for swba, solve[s] INCLUDES the\n"
 				"initialisation (init[s]). ceres and mrpt start from the file's values; ceres = Ceres's default options\n"
 				"(initial trust region 1e4), ceres:tr = Ceres with swba's initial trust region (%.0e).\n"
 				"ours/ceres = swba's solve[s] (initialisation + LM) / the 'ceres' row's Solve() time (default options),\n"
@@ -504,7 +512,7 @@ int main(int argc, char** argv)
 			const char* mname = g.is_2d() ? "2d" : model_name(model);
 			const double initial = swba::io::pose_graph_cost(g, model);
 			std::vector<Result> results;
-			for (const auto init : s.inits) results.push_back(run_swba(g, s, model, init));
+			for (const auto& [init, positions] : s.inits) results.push_back(run_swba(g, s, model, init, positions));
 #ifdef SWBA_BENCH_HAVE_CERES
 			if (s.run_ceres) results.push_back(run_ceres(g, s, model, -1));
 			if (s.run_ceres && s.run_ceres_tr) results.push_back(run_ceres(g, s, model, s.initial_trust_region));
