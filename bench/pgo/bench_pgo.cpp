@@ -479,10 +479,10 @@ int main(int argc, char** argv)
 				"initialisation (init[s]). ceres and mrpt start from the file's values; ceres = Ceres's default options\n"
 				"(initial trust region 1e4), ceres:tr = Ceres with swba's initial trust region (%.0e).\n"
 				"ours/ceres = swba's solve[s] (initialisation + LM) / the 'ceres' row's Solve() time (default options),\n"
-				"same model. start cost = cost where the solver starts.\n\n",
+				"same model; ours/c:tr = the same over the 'ceres:tr' row. start cost = cost where the solver starts.\n\n",
 				s.initial_trust_region);
-	std::printf("%-15s %-5s %-9s %13s %16s %16s %5s %8s %8s %8s %10s\n", "graph", "model", "solver", "start cost",
-				"final cost", "solver's cost", "iters", "setup[s]", "init[s]", "solve[s]", "ours/ceres");
+	std::printf("%-15s %-5s %-9s %13s %16s %16s %5s %8s %8s %8s %10s %9s\n", "graph", "model", "solver", "start cost",
+				"final cost", "solver's cost", "iters", "setup[s]", "init[s]", "solve[s]", "ours/ceres", "ours/c:tr");
 	int rc = 0;
 	for (const auto& path : s.graphs)
 	{
@@ -523,14 +523,20 @@ int main(int argc, char** argv)
 				if (mrpt.final_cost >= 0) results.back().final_cost = swba::io::pose_graph_cost(mrpt.solution, model);
 			}
 			const Result* ceres = nullptr;
-			for (const auto& r : results)
-				if (r.solver == "ceres") ceres = &r;
+			const Result* ceres_tr = nullptr;
 			for (const auto& r : results)
 			{
-				char ratio[32] = "";
+				if (r.solver == "ceres") ceres = &r;
+				if (r.solver == "ceres:tr") ceres_tr = &r;
+			}
+			for (const auto& r : results)
+			{
+				char ratio[32] = "", ratio_tr[32] = "";
 				const bool ours = r.solver.rfind("swba", 0) == 0;
 				if (ceres && ours && ceres->solve_s > 0)
 					std::snprintf(ratio, sizeof ratio, "%.2f", r.solve_s / ceres->solve_s);
+				if (ceres_tr && ours && ceres_tr->solve_s > 0)
+					std::snprintf(ratio_tr, sizeof ratio_tr, "%.2f", r.solve_s / ceres_tr->solve_s);
 				const double start = r.start_cost >= 0 ? r.start_cost : initial;
 				char init_s[16] = "-";
 				if (ours) std::snprintf(init_s, sizeof init_s, "%.3f", r.init_s);
@@ -538,9 +544,9 @@ int main(int argc, char** argv)
 					std::printf("%-15s %-5s %-9s %13.6e %16s %16s %5s %8s %8s %8s %10s  %s\n", name.c_str(), mname,
 								r.solver.c_str(), start, "-", "-", "-", "-", "-", "-", "", r.note.c_str());
 				else
-					std::printf("%-15s %-5s %-9s %13.6e %16.10g %16.10g %5d %8.3f %8s %8.3f %10s\n", name.c_str(),
+					std::printf("%-15s %-5s %-9s %13.6e %16.10g %16.10g %5d %8.3f %8s %8.3f %10s %9s\n", name.c_str(),
 								mname, r.solver.c_str(), start, r.final_cost, r.reported_cost, r.iterations, r.setup_s,
-								init_s, r.solve_s, ratio);
+								init_s, r.solve_s, ratio, ratio_tr);
 				if (!r.note.empty() && r.final_cost >= 0)
 					notes.push_back(name + " " + mname + " " + r.solver + ": " + r.note);
 			}
