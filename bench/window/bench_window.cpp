@@ -142,13 +142,24 @@ int main(int argc, char** argv)
 		TCLAP::SwitchArg no_large_arg("", "no-large", "skip the large rawlog");
 		TCLAP::SwitchArg no_ekf_arg("", "no-ekf", "skip the EKF");
 		TCLAP::ValueArg<std::string> md_arg("", "markdown", "also write the tables to FILE", false, "", "FILE");
-		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&md_arg, &no_ekf_arg, &no_large_arg, &no_small_arg,
+		TCLAP::ValueArg<std::string> config_arg(
+			"", "config",
+			"swba run's INI (doc/run.md) for the window's and solver's options, e.g. [solver] max_iterations; the "
+			"rawlog, windows, policies and EKF methods still come from this command line. (Default: built-in)",
+			false, "", "INI");
+		TCLAP::SwitchArg keep_prior_only_arg(
+			"", "keep-prior-only-landmarks",
+			"solve with every landmark of the prior in the LM problem (SlidingWindowOptions::eliminate_prior_only_landmarks "
+			"= false), for comparison");
+		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&keep_prior_only_arg, &config_arg, &md_arg, &no_ekf_arg, &no_large_arg, &no_small_arg,
 																 &slam_large_steps_arg, &ekf_large_steps_arg, &large_steps_arg, &ekf_arg,
 																 &policy_arg, &windows_arg, &dir_arg, &large_arg, &small_arg})
 			cmd.add(*a);
 		if (!cmd.parse(argc, argv)) return 0;
 
 		RunOptions base;
+		if (!config_arg.getValue().empty()) swba::estimators::load_run_config(config_arg.getValue(), base);
+		if (keep_prior_only_arg.getValue()) base.window.eliminate_prior_only_landmarks = false;
 		base.windows = swba::estimators::parse_window_list(windows_arg.getValue(), "--windows");
 		base.policies = swba::estimators::parse_policy_list(policy_arg.getValue());
 		base.ekf_methods = swba::estimators::parse_ekf_method_list(ekf_arg.getValue());

@@ -76,8 +76,15 @@ struct SlidingWindowOptions
 	io::OdometryInformationOptions odometry;
 	/** Relative eigenvalue threshold of the marginal prior (see swba::marginalize). Default 1e-12. */
 	double marginalization_threshold = 1e-12;
-	/** LM options of the per-step solve. Defaults: max_iterations 10, function_tolerance 1e-9. */
+	/** LM options of the per-step solve. Defaults: max_iterations 10, function_tolerance 1e-6. With
+	 * linear_solver Auto and a prior over several landmarks (no Schur elimination possible) the window
+	 * asks for DenseNormal directly (SparseNormal above dense_max_dim), which is what Auto would pick. */
 	SolverOptions solver = default_solver_options();
+	/** Landmarks connected to nothing but the marginal prior (no window pose observes them; SLAM policy)
+	 * are eliminated from each LM solve exactly: the solve sees the prior's marginal over the other
+	 * variables, and those landmarks are then set to their conditional optimum (doc/window.md,
+	 * "Cost per step"). Same optimum, a much smaller dense system. Default true. */
+	bool eliminate_prior_only_landmarks = true;
 
 	static SolverOptions default_solver_options();
 	/** Throws std::invalid_argument naming the bad option. */
@@ -89,6 +96,8 @@ struct StepSummary
 {
 	std::size_t step = 0;
 	int iterations = 0;
+	/** Cost of the LM problem before and after the solve (with prior-only landmarks eliminated, of the
+	 * reduced problem: the prior's part differs from the full prior's by a constant). */
 	double initial_cost = 0, final_cost = 0;
 	double seconds = 0;             ///< whole process() call
 	double solve_seconds = 0;       ///< LM solve
@@ -101,6 +110,7 @@ struct StepSummary
 	int reanchored = 0;             ///< landmarks re-anchored this step (including those switched to world XYZ)
 	int landmarks_to_world = 0;     ///< of these, landmarks in the prior switched to world XYZ (inverse depth only)
 	int marginalized_landmarks = 0; ///< landmarks marginalised this step (ConstantTime)
+	int prior_only_landmarks = 0;   ///< landmarks held out of this step's LM solve (eliminate_prior_only_landmarks)
 };
 
 class SlidingWindowEstimator
