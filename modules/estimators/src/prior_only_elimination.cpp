@@ -2,9 +2,11 @@
 
 #include <swba/factors/linear_prior.h>
 #include <swba/linear/marginalization.h>
+#include <swba/core/loss.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <map>
 #include <stdexcept>
 
 namespace swba::estimators::detail
@@ -20,21 +22,19 @@ Eigen::MatrixXd gather_columns(const Eigen::MatrixXd& J, const std::vector<int>&
 }
 }  // namespace
 
-bool PriorOnlyElimination::begin(Problem& problem, FactorId prior_factor, const std::vector<VariableId>& vars,
-								 const Eigen::MatrixXd& J, const Eigen::VectorXd& e,
-								 const std::vector<std::vector<double>>& x_lin, double threshold,
-								 const std::function<bool(VariableId)>& eliminable)
+bool PriorOnlyElimination::split(const Problem& problem, FactorId prior_factor, const std::vector<VariableId>& vars,
+								 const std::vector<std::vector<double>>& x_lin,
+								 const std::function<bool(VariableId)>& eliminable, Eigen::Index total_cols)
 {
 	active_.clear();
 	passive_.clear();
 	passive_lin_.clear();
+	pcols_.clear();
+	acols_.clear();
+	amanifolds_.clear();
+	alin_.clear();
 	reduced_factor_ = -1;
 	if (vars.size() != x_lin.size()) throw std::invalid_argument("PriorOnlyElimination: one x_lin per variable");
-
-	// Split the prior's scalar columns into prior-only (p) and the rest (a).
-	std::vector<int> pcols, acols;
-	std::vector<std::shared_ptr<const Manifold>> amanifolds;
-	std::vector<std::vector<double>> alin;
 	int off = 0;
 	for (std::size_t i = 0; i < vars.size(); i++)
 	{
@@ -48,33 +48,76 @@ bool PriorOnlyElimination::begin(Problem& problem, FactorId prior_factor, const 
 				throw std::invalid_argument("PriorOnlyElimination: eliminable variables must be Euclidean");
 			passive_.push_back(vars[i]);
 			passive_lin_.push_back(x_lin[i]);
-			for (int c = 0; c < n; c++) pcols.push_back(off + c);
+			for (int c = 0; c < n; c++) pcols_.push_back(off + c);
 		}
 		else
 		{
-			active_.push_back({vars[i], static_cast<int>(acols.size()), x_lin[i]});
-			amanifolds.push_back(var.manifold);
-			alin.push_back(x_lin[i]);
-			for (int c = 0; c < n; c++) acols.push_back(off + c);
+			active_.push_back({vars[i], static_cast<int>(acols_.size()), x_lin[i]});
+			amanifolds_.push_back(var.manifold);
+			alin_.push_back(x_lin[i]);
+			for (int c = 0; c < n; c++) acols_.push_back(off + c);
 		}
 		off += n;
 	}
-	if (off != J.cols() || e.size() != J.rows()) throw std::invalid_argument("PriorOnlyElimination: J, e and variables disagree");
+	if (off != total_cols) throw std::invalid_argument("PriorOnlyElimination: the prior's size and variables disagree");
 	if (passive_.empty())
 	{
 		active_.clear();
 		return false;
 	}
+	return true;
+}
 
+bool PriorOnlyElimination::begin(Problem& problem, FactorId prior_factor, const std::vector<VariableId>& vars,
+								 const Eigen::MatrixXd& J, const Eigen::VectorXd& e,
+								 const std::vector<std::vector<double>>& x_lin, double threshold,
+								 const std::function<bool(VariableId)>& eliminable)
+{
+	if (e.size() != J.rows()) throw std::invalid_argument("PriorOnlyElimination: J and e disagree");
+	if (!split(problem, prior_factor, vars, x_lin, eliminable, J.cols())) return false;
 	// H = JᵀJ and b = −Jᵀe, split into the p and a blocks.
-	const Eigen::MatrixXd Jp = gather_columns(J, pcols), Ja = gather_columns(J, acols);
-	const Eigen::Index np = Jp.cols(), na = Ja.cols();
-	Eigen::MatrixXd Hpp = Eigen::MatrixXd::Zero(np, np);
+	const Eigen::MatrixXd Jp = gather_columns(J, pcols_), Ja = gather_columns(J, acols_);
+	Eigen::MatrixXd Hpp = Eigen::MatrixXd::Zero(Jp.cols(), Jp.cols());
 	Hpp.selfadjointView<Eigen::Lower>().rankUpdate(Jp.transpose());
 	Hpp = Eigen::MatrixXd(Hpp.selfadjointView<Eigen::Lower>());
-	const Eigen::MatrixXd Hpa = Jp.transpose() * Ja;
-	const Eigen::VectorXd bp = -(Jp.transpose() * e), ba = -(Ja.transpose() * e);
+	Eigen::MatrixXd Haa = Eigen::MatrixXd::Zero(Ja.cols(), Ja.cols());
+	Haa.selfadjointView<Eigen::Lower>().rankUpdate(Ja.transpose());
+	Haa = Eigen::MatrixXd(Haa.selfadjointView<Eigen::Lower>());
+	reduce(problem, prior_factor, Hpp, Jp.transpose() * Ja, std::move(Haa), -(Jp.transpose() * e),
+		   -(Ja.transpose() * e), threshold);
+	return true;
+}
 
+bool PriorOnlyElimination::begin(Problem& problem, FactorId prior_factor, const std::vector<VariableId>& vars,
+								 const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
+								 const std::vector<std::vector<double>>& x_lin, double threshold,
+								 const std::function<bool(VariableId)>& eliminable, bool /*information_form*/)
+{
+	if (H.rows() != H.cols() || b.size() != H.rows()) throw std::invalid_argument("PriorOnlyElimination: H and b disagree");
+	if (!split(problem, prior_factor, vars, x_lin, eliminable, H.cols())) return false;
+	const Eigen::Index np = static_cast<Eigen::Index>(pcols_.size()), na = static_cast<Eigen::Index>(acols_.size());
+	Eigen::MatrixXd Hpp(np, np), Hpa(np, na), Haa(na, na);
+	Eigen::VectorXd bp(np), ba(na);
+	for (Eigen::Index j = 0; j < np; j++)
+	{
+		for (Eigen::Index i = 0; i < np; i++) Hpp(i, j) = H(pcols_[i], pcols_[j]);
+		bp[j] = b[pcols_[j]];
+	}
+	for (Eigen::Index j = 0; j < na; j++)
+	{
+		for (Eigen::Index i = 0; i < np; i++) Hpa(i, j) = H(pcols_[i], acols_[j]);
+		for (Eigen::Index i = 0; i < na; i++) Haa(i, j) = H(acols_[i], acols_[j]);
+		ba[j] = b[acols_[j]];
+	}
+	reduce(problem, prior_factor, Hpp, Hpa, std::move(Haa), bp, ba, threshold);
+	return true;
+}
+
+void PriorOnlyElimination::reduce(Problem& problem, FactorId prior_factor, const Eigen::MatrixXd& Hpp,
+								  const Eigen::MatrixXd& Hpa, Eigen::MatrixXd Haa, const Eigen::VectorXd& bp,
+								  const Eigen::VectorXd& ba, double threshold)
+{
+	const Eigen::Index np = Hpp.rows(), na = Haa.rows();
 	// K = Hpp⁻¹ Hpa, k = Hpp⁻¹ bp: LDLᵀ when Hpp is clearly positive definite (a landmark observed with
 	// range and bearing always is), else the thresholded pseudo-inverse swba::marginalize uses.
 	Eigen::LDLT<Eigen::MatrixXd> ldlt(Hpp);
@@ -87,7 +130,7 @@ bool PriorOnlyElimination::begin(Problem& problem, FactorId prior_factor, const 
 	}
 	else
 	{
-		Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Hpp);
+		Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (Hpp + Hpp.transpose()));
 		const Eigen::VectorXd& ev = es.eigenvalues();
 		const double lmax = std::max(ev.maxCoeff(), 0.0);
 		Eigen::VectorXd inv = Eigen::VectorXd::Zero(np);
@@ -100,10 +143,7 @@ bool PriorOnlyElimination::begin(Problem& problem, FactorId prior_factor, const 
 
 	problem.remove_factor(prior_factor);
 	for (VariableId v : passive_) problem.set_constant(v, true);
-	if (na == 0) return true;
-	Eigen::MatrixXd Haa = Eigen::MatrixXd::Zero(na, na);
-	Haa.selfadjointView<Eigen::Lower>().rankUpdate(Ja.transpose());
-	Haa = Eigen::MatrixXd(Haa.selfadjointView<Eigen::Lower>());
+	if (na == 0) return;
 	Haa.noalias() -= Hpa.transpose() * K_;
 	const Eigen::VectorXd b_red = ba - Hpa.transpose() * k_;
 	std::vector<int> all(static_cast<std::size_t>(na));
@@ -114,9 +154,8 @@ bool PriorOnlyElimination::begin(Problem& problem, FactorId prior_factor, const 
 		std::vector<VariableId> avars;
 		for (const auto& a : active_) avars.push_back(a.var);
 		reduced_factor_ = problem.add_factor(
-			std::make_shared<LinearPriorFactor>(red.J, red.e, std::move(alin), std::move(amanifolds)), std::move(avars));
+			std::make_shared<LinearPriorFactor>(red.J, red.e, std::move(alin_), std::move(amanifolds_)), std::move(avars));
 	}
-	return true;
 }
 
 void PriorOnlyElimination::end(Problem& problem)
@@ -142,5 +181,85 @@ void PriorOnlyElimination::end(Problem& problem)
 	active_.clear();
 	passive_.clear();
 	passive_lin_.clear();
+}
+DenseNormalSystem dense_normal_system(const Problem& problem, const std::vector<VariableId>& order,
+									  const std::vector<FactorId>& factors, const KnownPrior& prior)
+{
+	DenseNormalSystem out;
+	std::map<VariableId, int> index;
+	out.offsets.push_back(0);
+	for (std::size_t i = 0; i < order.size(); i++)
+	{
+		index[order[i]] = static_cast<int>(i);
+		out.offsets.push_back(out.offsets.back() + problem.variable(order[i]).manifold->tangent_size());
+	}
+	const int n = out.offsets.back();
+	out.H.setZero(n, n);
+	out.b.setZero(n);
+	using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+	std::vector<RowMajor> jac;
+	std::vector<double*> jp;
+	std::vector<const double*> xs;
+	std::vector<int> cols, slot;
+	for (FactorId f : factors)
+	{
+		if (f == prior.factor && prior.H)
+		{
+			// Its variables' positions in `order` (the prior's variables are all kept, none fixed).
+			const auto& vars = *prior.vars;
+			std::vector<int> poff(vars.size() + 1, 0), dst(vars.size(), -1);
+			for (std::size_t i = 0; i < vars.size(); i++)
+			{
+				poff[i + 1] = poff[i] + problem.variable(vars[i]).manifold->tangent_size();
+				auto it = index.find(vars[i]);
+				if (it != index.end()) dst[i] = out.offsets[static_cast<std::size_t>(it->second)];
+			}
+			if (poff.back() != prior.H->rows()) throw std::logic_error("dense_normal_system: prior H has the wrong size");
+			// b_prior = −Jᵀ(e + J d) = b − H d, d = x ⊟ x_lin.
+			Eigen::VectorXd d(poff.back());
+			for (std::size_t i = 0; i < vars.size(); i++)
+				problem.variable(vars[i]).manifold->minus(problem.value(vars[i]), (*prior.x_lin)[i].data(), d.data() + poff[i]);
+			const Eigen::VectorXd bp = *prior.b - *prior.H * d;
+			for (std::size_t i = 0; i < vars.size(); i++)
+			{
+				if (dst[i] < 0) continue;
+				const int ni = poff[i + 1] - poff[i];
+				out.b.segment(dst[i], ni) += bp.segment(poff[i], ni);
+				for (std::size_t j = 0; j < vars.size(); j++)
+					if (dst[j] >= 0)
+						out.H.block(dst[i], dst[j], ni, poff[j + 1] - poff[j]) +=
+							prior.H->block(poff[i], poff[j], ni, poff[j + 1] - poff[j]);
+			}
+			continue;
+		}
+		const auto& fe = problem.factor(f);
+		const int m = fe.factor->residual_dim();
+		const int k = fe.factor->num_variables();
+		jac.resize(static_cast<std::size_t>(k));
+		jp.assign(static_cast<std::size_t>(k), nullptr);
+		xs.assign(static_cast<std::size_t>(k), nullptr);
+		cols.assign(static_cast<std::size_t>(k), 0);
+		slot.assign(static_cast<std::size_t>(k), -1);
+		for (int s = 0; s < k; s++)
+		{
+			xs[s] = problem.value(fe.variables[s]);
+			cols[s] = fe.factor->tangent_dims()[s];
+			jac[s].setZero(m, cols[s]);
+			jp[s] = jac[s].data();
+			auto it = index.find(fe.variables[s]);
+			if (it != index.end()) slot[s] = out.offsets[static_cast<std::size_t>(it->second)];
+		}
+		Eigen::VectorXd r(m);
+		if (!fe.factor->evaluate_whitened(xs.data(), r.data(), jp.data()) || !r.allFinite()) continue;
+		if (fe.loss) apply_loss(*fe.loss, m, r.data(), k, cols.data(), jp.data());
+		for (int s = 0; s < k; s++)
+		{
+			if (slot[s] < 0) continue;
+			out.b.segment(slot[s], cols[s]).noalias() -= jac[s].transpose() * r;
+			for (int t = 0; t < k; t++)
+				if (slot[t] >= 0) out.H.block(slot[s], slot[t], cols[s], cols[t]).noalias() += jac[s].transpose() * jac[t];
+		}
+	}
+	return out;
 }
 }  // namespace swba::estimators::detail

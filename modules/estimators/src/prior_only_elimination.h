@@ -15,6 +15,7 @@
 
 #include <swba/nonlinear/problem.h>
 
+#include <memory>
 #include <Eigen/Core>
 #include <functional>
 #include <vector>
@@ -32,6 +33,10 @@ class PriorOnlyElimination
 	bool begin(Problem& problem, FactorId prior_factor, const std::vector<VariableId>& vars, const Eigen::MatrixXd& J,
 			   const Eigen::VectorXd& e, const std::vector<std::vector<double>>& x_lin, double threshold,
 			   const std::function<bool(VariableId)>& eliminable);
+	/** As above, with the prior's information H = JᵀJ and b = −Jᵀe already known (saves forming them). */
+	bool begin(Problem& problem, FactorId prior_factor, const std::vector<VariableId>& vars, const Eigen::MatrixXd& H,
+			   const Eigen::VectorXd& b, const std::vector<std::vector<double>>& x_lin, double threshold,
+			   const std::function<bool(VariableId)>& eliminable, bool information_form);
 	/** After the solve: sets the prior-only variables to their conditional minimiser given the others,
 	 * makes them variable again and removes the reduced prior factor (the caller re-adds the full one). */
 	void end(Problem& problem);
@@ -40,6 +45,17 @@ class PriorOnlyElimination
 	int num_eliminated() const { return static_cast<int>(passive_.size()); }
 
    private:
+	/** Splits the prior's variables; false when none is prior-only. Fills pcols/acols (scalar columns). */
+	bool split(const Problem& problem, FactorId prior_factor, const std::vector<VariableId>& vars,
+			   const std::vector<std::vector<double>>& x_lin, const std::function<bool(VariableId)>& eliminable,
+			   Eigen::Index total_cols);
+	/** Given the blocks of H and b: computes K, k, swaps the prior factor for the reduced one. */
+	void reduce(Problem& problem, FactorId prior_factor, const Eigen::MatrixXd& Hpp, const Eigen::MatrixXd& Hpa,
+				Eigen::MatrixXd Haa, const Eigen::VectorXd& bp, const Eigen::VectorXd& ba, double threshold);
+
+	std::vector<int> pcols_, acols_;
+	std::vector<std::shared_ptr<const Manifold>> amanifolds_;
+	std::vector<std::vector<double>> alin_;
 	struct Active
 	{
 		VariableId var;
@@ -53,4 +69,26 @@ class PriorOnlyElimination
 	Eigen::VectorXd k_;
 	FactorId reduced_factor_ = -1;
 };
+/** Dense normal equations H δ = b (b = −Jᵀr, whitened, robust losses applied as the solver does) of
+ * `factors` at the current values over the variables `order` (others held fixed), like
+ * swba::linearize_dense, but block by block without the stacked Jacobian, and with one factor, the
+ * marginal prior, entered from its known information: a LinearPriorFactor r = e + J (x ⊟ x_lin) with
+ * constant J contributes H_prior = JᵀJ and b_prior − H_prior (x ⊟ x_lin). O(Σ factor blocks + n²)
+ * instead of O(rows·n²). */
+struct DenseNormalSystem
+{
+	Eigen::MatrixXd H;
+	Eigen::VectorXd b;
+	std::vector<int> offsets;  ///< of each variable of `order` (size order.size() + 1)
+};
+struct KnownPrior
+{
+	FactorId factor = -1;
+	const std::vector<VariableId>* vars = nullptr;
+	const std::vector<std::vector<double>>* x_lin = nullptr;
+	const Eigen::MatrixXd* H = nullptr;  ///< JᵀJ over vars' tangent coordinates
+	const Eigen::VectorXd* b = nullptr;  ///< −Jᵀe
+};
+DenseNormalSystem dense_normal_system(const Problem& problem, const std::vector<VariableId>& order,
+									  const std::vector<FactorId>& factors, const KnownPrior& prior);
 }  // namespace swba::estimators::detail

@@ -99,6 +99,11 @@ struct Prior
 	Eigen::MatrixXd J;
 	Eigen::VectorXd e;
 	std::vector<std::vector<double>> x_lin;
+	/** Its information H = JᵀJ and b = −Jᵀe (the Schur complement it came from) while `has_information`;
+	 * anything that changes J (a change of variables, a new column) clears the flag. */
+	Eigen::MatrixXd H;
+	Eigen::VectorXd b;
+	bool has_information = false;
 };
 }  // namespace
 
@@ -234,6 +239,7 @@ struct SlidingWindowEstimator::Impl
 		const int n = problem.variable(v).manifold->tangent_size();
 		Eigen::MatrixXd J(prior.J.rows(), prior.J.cols() + n);
 		J << prior.J, Eigen::MatrixXd::Zero(prior.J.rows(), n);
+		prior.has_information = false;
 		prior.J = J;
 		prior.vars.push_back(v);
 		prior.x_lin.push_back(problem.variable(v).value);
@@ -277,6 +283,7 @@ struct SlidingWindowEstimator::Impl
 		const Eigen::MatrixXd Jl = prior.J.middleCols(ol, 3);
 		prior.J.middleCols(oa, 6) += Jl * D * Ha;
 		prior.J.middleCols(ol, 3) = Jl * D * Hp;
+		prior.has_information = false;
 		prior.vars[pidx] = vp;
 		prior.x_lin[pidx] = std::vector<double>(p_lin.data(), p_lin.data() + 3);
 		if (opt.first_estimate_jacobians) (*fej)[vp] = std::vector<double>(p_f.data(), p_f.data() + 3);
@@ -345,6 +352,7 @@ struct SlidingWindowEstimator::Impl
 			prior.J.middleCols(oa, 6) += Jl * D * Ha;
 			prior.J.middleCols(ob, 6) += Jl * D * Hb;
 			prior.J.middleCols(ol, 3) = Jl * D * Hl;
+			prior.has_information = false;
 			prior.vars[pidx] = vl2;
 			prior.x_lin[pidx] = std::vector<double>(lam2_lin.data(), lam2_lin.data() + 3);
 			if (opt.first_estimate_jacobians) (*fej)[vl2] = std::vector<double>(lam2_f.data(), lam2_f.data() + 3);
@@ -447,7 +455,11 @@ struct SlidingWindowEstimator::Impl
 		std::vector<VariableId> order = keep;
 		order.insert(order.end(), margv.begin(), margv.end());
 		const std::vector<FactorId> flist(fm.begin(), fm.end());
-		const DenseLinearSystem sys = linearize_dense(problem, order, flist);
+		// The old prior enters from its known information (no JᵀJ over its whole state per step).
+		detail::KnownPrior known;
+		if (prior.factor >= 0 && prior.has_information)
+			known = {prior.factor, &prior.vars, &prior.x_lin, &prior.H, &prior.b};
+		const detail::DenseNormalSystem sys = detail::dense_normal_system(problem, order, flist, known);
 		const int nk = sys.offsets[keep.size()];
 		std::vector<int> ki(nk), mi(sys.offsets.back() - nk);
 		for (int i = 0; i < nk; i++) ki[i] = i;
@@ -457,6 +469,9 @@ struct SlidingWindowEstimator::Impl
 		Prior p;
 		p.J = m.J;
 		p.e = m.e;
+		p.H = m.H;
+		p.b = m.b;
+		p.has_information = true;
 		p.vars = keep;
 		for (VariableId v : keep) p.x_lin.push_back(problem.variable(v).value);
 		if (prior.factor >= 0 && fm.count(prior.factor)) prior.factor = -1;  // removed below
@@ -513,9 +528,14 @@ struct SlidingWindowEstimator::Impl
 		{
 			const auto ts = Clock::now();
 			detail::PriorOnlyElimination elim;
-			const bool reduced = opt.eliminate_prior_only_landmarks && prior.factor >= 0 &&
-				elim.begin(problem, prior.factor, prior.vars, prior.J, prior.e, prior.x_lin, opt.marginalization_threshold,
-						   [&](VariableId v) { return landmark_of_var.count(v) > 0; });
+			const auto is_landmark = [&](VariableId v) { return landmark_of_var.count(v) > 0; };
+			bool reduced = false;
+			if (opt.eliminate_prior_only_landmarks && prior.factor >= 0)
+				reduced = prior.has_information
+					? elim.begin(problem, prior.factor, prior.vars, prior.H, prior.b, prior.x_lin,
+								 opt.marginalization_threshold, is_landmark, true)
+					: elim.begin(problem, prior.factor, prior.vars, prior.J, prior.e, prior.x_lin,
+								 opt.marginalization_threshold, is_landmark);
 			if (reduced) prior.factor = -1;  // removed by begin(), re-added below
 			const Summary s = solve(problem, step_solver_options());
 			if (reduced)
