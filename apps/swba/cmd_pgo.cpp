@@ -10,11 +10,7 @@
 
 namespace
 {
-/** With --linear auto: dense LDLT only up to this many unknowns (see doc/pgo.md). */
-constexpr int kPoseGraphDenseMaxDim = 200;
-/** Initial LM trust-region radius: a nearly Gauss-Newton first step (see doc/pgo.md, measured on the four
- * shipped graphs with every --init). LM still shrinks it after a rejected step. */
-constexpr double kPoseGraphInitialTrustRegion = 1e12;
+using swba::io::kPoseGraphInitialTrustRegion;
 
 int run_pgo(int argc, char** argv)
 {
@@ -62,11 +58,11 @@ int run_pgo(int argc, char** argv)
 	if (auto rc = swba::app::parse_command_line(cmd, argc, argv)) return *rc;
 
 	swba::io::PoseGraphProblemOptions po;
-	swba::io::PoseGraphInitOptions io;
-	swba::SolverOptions so;
+	swba::io::PoseGraphInitOptions init_options;
+	swba::SolverOptions so = swba::io::pose_graph_solver_options();
 	try
 	{
-		io.method = swba::io::parse_pose_graph_init(init.getValue());
+		init_options.method = swba::io::parse_pose_graph_init(init.getValue());
 		po.gauge = swba::io::parse_pose_graph_gauge(gauge.getValue());
 		po.prior_sigma = prior_sigma.getValue();
 		po.rotation_error = swba::io::parse_rotation_error(rotation_error.getValue());
@@ -84,9 +80,8 @@ int run_pgo(int argc, char** argv)
 	{
 		throw swba::app::UsageError(e.what());
 	}
-	// Pose-graph normal equations are very sparse (≈ 4 6×6 blocks per block row): CHOLMOD beats a dense
-	// LDLT from a few hundred unknowns on (smallGrid3D, 744 unknowns: 0.09 s sparse vs 0.70 s dense).
-	so.dense_max_dim = kPoseGraphDenseMaxDim;
+	// pose_graph_solver_options(): dense LDLT only up to 200 unknowns — pose-graph normal equations are very
+	// sparse (≈ 4 6×6 blocks per block row; smallGrid3D, 744 unknowns: 0.09 s sparse vs 0.70 s dense).
 	so.max_iterations = max_iterations.getValue();
 	so.num_threads = threads.getValue();
 	so.function_tolerance = function_tolerance.getValue();
@@ -100,8 +95,8 @@ int run_pgo(int argc, char** argv)
 	std::cout << "Pose graph " << input.getValue() << ": " << graph.num_vertices() << " vertices, "
 			  << graph.num_edges() << " edges (" << (graph.is_2d() ? "2D SE2" : "3D SE3:QUAT") << "), "
 			  << graph.fixed.size() << " FIX\n";
-	io.rotation_error = po.rotation_error;
-	const auto init_summary = swba::io::initialize_pose_graph(graph, io);
+	init_options.rotation_error = po.rotation_error;
+	const auto init_summary = swba::io::initialize_pose_graph(graph, init_options);
 	std::cout << "Initialisation " << init_summary.brief() << "\n";
 	auto pp = swba::io::build_pose_graph_problem(graph, po);
 	std::cout << "Gauge: " << gauge.getValue() << " (" << pp.num_constant << " constant vertices"

@@ -45,7 +45,7 @@ struct Settings
 	int max_iterations = 100;
 	int repeat = 1;
 	int mrpt_max_iterations = 100;
-	double initial_trust_region = 1e12;  // swba's rows (as swba pgo) and the ceres:tr row
+	double initial_trust_region = swba::io::kPoseGraphInitialTrustRegion;  // swba's rows and the ceres:tr row
 	bool run_ceres_tr = true;
 	bool run_ceres = true;
 	bool run_mrpt = true;
@@ -82,11 +82,11 @@ Result run_swba(const PoseGraph& input, const Settings& s, swba::RotationError m
 		PoseGraph g = input;
 		// The initialisation is timed as part of the solve (it replaces LM iterations).
 		auto t0 = Clock::now();
-		swba::io::PoseGraphInitOptions io;
-		io.method = init;
-		io.solve_positions = solve_positions;
-		io.rotation_error = model;
-		const auto init_summary = swba::io::initialize_pose_graph(g, io);
+		swba::io::PoseGraphInitOptions init_options;
+		init_options.method = init;
+		init_options.solve_positions = solve_positions;
+		init_options.rotation_error = model;
+		const auto init_summary = swba::io::initialize_pose_graph(g, init_options);
 		const double init_s = seconds_since(t0);
 		const double start_cost = swba::io::pose_graph_cost(g, model);
 		t0 = Clock::now();
@@ -94,11 +94,10 @@ Result run_swba(const PoseGraph& input, const Settings& s, swba::RotationError m
 		po.rotation_error = model;
 		auto pp = swba::io::build_pose_graph_problem(g, po);
 		const double setup = seconds_since(t0);
-		swba::SolverOptions o;
+		swba::SolverOptions o = swba::io::pose_graph_solver_options();  // as swba pgo
 		o.max_iterations = s.max_iterations;
 		o.num_threads = s.threads;
-		o.dense_max_dim = 200;  // as swba pgo: sparse Cholesky beyond 200 unknowns
-		o.initial_trust_region_radius = s.initial_trust_region;  // as swba pgo
+		o.initial_trust_region_radius = s.initial_trust_region;
 		t0 = Clock::now();
 		const auto summary = swba::solve(pp.problem, o);
 		const double solve = init_s + seconds_since(t0);

@@ -413,6 +413,15 @@ std::string PoseGraphInitSummary::brief() const
 	return buf;
 }
 
+SolverOptions pose_graph_solver_options()
+{
+	SolverOptions o;
+	o.max_iterations = 100;
+	o.dense_max_dim = kPoseGraphDenseMaxDim;
+	o.initial_trust_region_radius = kPoseGraphInitialTrustRegion;
+	return o;
+}
+
 PoseGraphInitSummary initialize_pose_graph(PoseGraph& g, const PoseGraphInitOptions& o)
 {
 	const auto t0 = std::chrono::steady_clock::now();

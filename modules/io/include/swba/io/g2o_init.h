@@ -21,6 +21,7 @@
 #pragma once
 
 #include <swba/io/g2o.h>
+#include <swba/nonlinear/solver.h>
 
 #include <string>
 
@@ -57,6 +58,14 @@ struct PoseGraphInitSummary
 	/** One line, e.g. "chordal: 2500 vertices, 1 component, 1 anchor, 0.051 s". */
 	std::string brief() const;
 };
+
+/** SolverOptions as `swba pgo` uses them (doc/pgo.md, "Performance"): max_iterations 100,
+ * dense_max_dim 200 (pose-graph normal equations are very sparse: CHOLMOD beyond 200 unknowns),
+ * initial_trust_region_radius kPoseGraphInitialTrustRegion (a nearly Gauss-Newton first step; LM still
+ * shrinks it after a rejected step); everything else SolverOptions' defaults. */
+constexpr double kPoseGraphInitialTrustRegion = 1e12;
+constexpr int kPoseGraphDenseMaxDim = 200;
+SolverOptions pose_graph_solver_options();
 
 /** Overwrites the non-anchor vertex values of `graph` with the chosen initial values.
  * Throws std::runtime_error if a linear system cannot be factorised (degenerate information). */
