@@ -118,15 +118,15 @@ void PriorOnlyElimination::reduce(Problem& problem, FactorId prior_factor, const
 								  const Eigen::VectorXd& ba, double threshold)
 {
 	const Eigen::Index np = Hpp.rows(), na = Haa.rows();
-	// K = Hpp⁻¹ Hpa, k = Hpp⁻¹ bp: LDLᵀ when Hpp is clearly positive definite (a landmark observed with
-	// range and bearing always is), else the thresholded pseudo-inverse swba::marginalize uses.
-	Eigen::LDLT<Eigen::MatrixXd> ldlt(Hpp);
-	const Eigen::VectorXd D = ldlt.vectorD();
-	const double dmax = D.size() ? D.maxCoeff() : 0.0;
-	if (ldlt.info() == Eigen::Success && dmax > 0 && D.minCoeff() > threshold * dmax && D.minCoeff() > 0)
+	// K = Hpp⁻¹ Hpa, k = Hpp⁻¹ bp: blocked Cholesky when Hpp is clearly positive definite (a landmark
+	// observed with range and bearing always is), else the thresholded pseudo-inverse swba::marginalize uses.
+	Eigen::LLT<Eigen::MatrixXd> llt(Hpp);
+	const Eigen::VectorXd piv = llt.matrixLLT().diagonal().cwiseAbs2();
+	const double pmax = piv.size() ? piv.maxCoeff() : 0.0;
+	if (llt.info() == Eigen::Success && pmax > 0 && piv.minCoeff() > threshold * pmax)
 	{
-		K_ = ldlt.solve(Hpa);
-		k_ = ldlt.solve(bp);
+		K_ = llt.solve(Hpa);
+		k_ = llt.solve(bp);
 	}
 	else
 	{
@@ -146,9 +146,7 @@ void PriorOnlyElimination::reduce(Problem& problem, FactorId prior_factor, const
 	if (na == 0) return;
 	Haa.noalias() -= Hpa.transpose() * K_;
 	const Eigen::VectorXd b_red = ba - Hpa.transpose() * k_;
-	std::vector<int> all(static_cast<std::size_t>(na));
-	for (Eigen::Index i = 0; i < na; i++) all[static_cast<std::size_t>(i)] = static_cast<int>(i);
-	const MarginalizationResult red = marginalize(Haa, b_red, all, {}, threshold);
+	const MarginalizationResult red = marginalize_leading(Haa, b_red, static_cast<int>(na), threshold);
 	if (red.rank > 0)
 	{
 		std::vector<VariableId> avars;
@@ -260,6 +258,52 @@ DenseNormalSystem dense_normal_system(const Problem& problem, const std::vector<
 				if (slot[t] >= 0) out.H.block(slot[s], slot[t], cols[s], cols[t]).noalias() += jac[s].transpose() * jac[t];
 		}
 	}
+	return out;
+}
+MarginalizationResult marginalize_leading(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,
+										  double threshold)
+{
+	const int n = static_cast<int>(H.rows());
+	if (H.cols() != n || b.size() != n || num_keep < 0 || num_keep > n)
+		throw std::invalid_argument("marginalize_leading: H must be n×n, b n, 0 <= num_keep <= n");
+	const int nk = num_keep, nm = n - num_keep;
+	auto fallback = [&]() {
+		std::vector<int> keep(static_cast<std::size_t>(nk)), marg(static_cast<std::size_t>(nm));
+		for (int i = 0; i < nk; i++) keep[static_cast<std::size_t>(i)] = i;
+		for (int i = 0; i < nm; i++) marg[static_cast<std::size_t>(i)] = nk + i;
+		return marginalize(H, b, keep, marg, threshold);
+	};
+	MarginalizationResult out;
+	if (nm > 0)
+	{
+		// H_mm⁻¹ through the thresholded eigen-decomposition, exactly as swba::marginalize (small block).
+		const Eigen::MatrixXd Hmm = H.bottomRightCorner(nm, nm);
+		Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (Hmm + Hmm.transpose()));
+		const Eigen::VectorXd& ev = es.eigenvalues();
+		const double lmax = std::max(ev.maxCoeff(), 0.0);
+		Eigen::VectorXd inv = Eigen::VectorXd::Zero(nm);
+		for (int i = 0; i < nm; i++)
+			if (ev[i] > threshold * lmax && ev[i] > 0) inv[i] = 1.0 / ev[i];
+		const Eigen::MatrixXd Hmm_inv = es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
+		const Eigen::MatrixXd K = H.topRightCorner(nk, nm) * Hmm_inv;
+		out.H = H.topLeftCorner(nk, nk);
+		out.H.noalias() -= K * H.topRightCorner(nk, nm).transpose();
+		out.b = b.head(nk) - K * b.tail(nm);
+	}
+	else
+	{
+		out.H = H;
+		out.b = b;
+	}
+	out.H = 0.5 * (out.H + out.H.transpose()).eval();
+	Eigen::LLT<Eigen::MatrixXd> llt(out.H);
+	if (nk == 0 || llt.info() != Eigen::Success) return fallback();
+	const Eigen::VectorXd piv = llt.matrixLLT().diagonal().cwiseAbs2();
+	if (!(piv.minCoeff() > threshold * piv.maxCoeff())) return fallback();
+	// ½‖e + J δ‖² = ½ δᵀ H* δ − b*ᵀ δ + const with J = Lᵀ, Jᵀe = −b*: e = −L⁻¹ b*.
+	out.J = llt.matrixU();
+	out.e = -(llt.matrixL().solve(out.b));
+	out.rank = nk;
 	return out;
 }
 }  // namespace swba::estimators::detail

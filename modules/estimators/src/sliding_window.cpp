@@ -461,10 +461,7 @@ struct SlidingWindowEstimator::Impl
 			known = {prior.factor, &prior.vars, &prior.x_lin, &prior.H, &prior.b};
 		const detail::DenseNormalSystem sys = detail::dense_normal_system(problem, order, flist, known);
 		const int nk = sys.offsets[keep.size()];
-		std::vector<int> ki(nk), mi(sys.offsets.back() - nk);
-		for (int i = 0; i < nk; i++) ki[i] = i;
-		for (size_t i = 0; i < mi.size(); i++) mi[i] = nk + static_cast<int>(i);
-		const MarginalizationResult m = marginalize(sys.H, sys.b, ki, mi, opt.marginalization_threshold);
+		const MarginalizationResult m = detail::marginalize_leading(sys.H, sys.b, nk, opt.marginalization_threshold);
 		// 4. Replace those factors and variables by the new prior.
 		Prior p;
 		p.J = m.J;
