@@ -39,10 +39,11 @@ SolverOptions SlidingWindowOptions::default_solver_options()
 {
 	SolverOptions s;
 	s.max_iterations = 10;
-	// 1e-6 (Ceres's default): from a warm start the window's cost settles within 2–3 iterations; a
-	// tighter 1e-9 only added iterations that move the cost by < 1e-6 relative (≈ 7.5 instead of ≈ 3.5
-	// per step on kf-slam_6D_demo) with the same APE to 5 digits (doc/run.md, "Benchmark").
-	s.function_tolerance = 1e-6;
+	// From a warm start the window's cost settles within 2–3 iterations; 1e-9 added iterations that each
+	// moved the cost by < 1e-7 relative (≈ 7.3 instead of ≈ 4.5 per step on kf-slam_6D_demo, same APE to
+	// 5 digits). 1e-6 saves one more iteration but moved the lagged APE of the 5000-step run by up to
+	// 0.7 %; 1e-7 keeps both runs' APE within 0.1 % (doc/run.md, "Benchmark").
+	s.function_tolerance = 1e-7;
 	return s;
 }
 
@@ -100,7 +101,8 @@ struct Prior
 	Eigen::VectorXd e;
 	std::vector<std::vector<double>> x_lin;
 	/** Its information H = JᵀJ and b = −Jᵀe (the Schur complement it came from) while `has_information`;
-	 * anything that changes J (a change of variables, a new column) clears the flag. */
+	 * a change of variables in J refreshes the columns it rewrote (refresh_information), a new zero column
+	 * extends them with zeros. */
 	Eigen::MatrixXd H;
 	Eigen::VectorXd b;
 	bool has_information = false;
@@ -231,6 +233,17 @@ struct SlidingWindowEstimator::Impl
 		return off;
 	}
 
+	/** After a change of variables rewrote J's columns [c0, c0 + n): recomputes the same rows/columns of
+	 * the stored information H = JᵀJ and entries of b = −Jᵀe (O(rank·cols·n), not a new JᵀJ). */
+	void refresh_information(int c0, int n)
+	{
+		if (!prior.has_information) return;
+		const Eigen::MatrixXd cols = prior.J.transpose() * prior.J.middleCols(c0, n);
+		prior.H.middleCols(c0, n) = cols;
+		prior.H.middleRows(c0, n) = cols.transpose();
+		prior.b.segment(c0, n) = -(prior.J.middleCols(c0, n).transpose() * prior.e);
+	}
+
 	/** Adds variable v to the prior with zero columns (x_lin = current value); returns its index. */
 	int ensure_in_prior(VariableId v)
 	{
@@ -239,7 +252,16 @@ struct SlidingWindowEstimator::Impl
 		const int n = problem.variable(v).manifold->tangent_size();
 		Eigen::MatrixXd J(prior.J.rows(), prior.J.cols() + n);
 		J << prior.J, Eigen::MatrixXd::Zero(prior.J.rows(), n);
-		prior.has_information = false;
+		if (prior.has_information)
+		{
+			// The new columns of J are zero: so are the new rows and columns of H and entries of b.
+			const Eigen::Index m = prior.H.rows();
+			prior.H.conservativeResize(m + n, m + n);
+			prior.H.rightCols(n).setZero();
+			prior.H.bottomRows(n).setZero();
+			prior.b.conservativeResize(m + n);
+			prior.b.tail(n).setZero();
+		}
 		prior.J = J;
 		prior.vars.push_back(v);
 		prior.x_lin.push_back(problem.variable(v).value);
@@ -283,7 +305,8 @@ struct SlidingWindowEstimator::Impl
 		const Eigen::MatrixXd Jl = prior.J.middleCols(ol, 3);
 		prior.J.middleCols(oa, 6) += Jl * D * Ha;
 		prior.J.middleCols(ol, 3) = Jl * D * Hp;
-		prior.has_information = false;
+		refresh_information(oa, 6);
+		refresh_information(ol, 3);
 		prior.vars[pidx] = vp;
 		prior.x_lin[pidx] = std::vector<double>(p_lin.data(), p_lin.data() + 3);
 		if (opt.first_estimate_jacobians) (*fej)[vp] = std::vector<double>(p_f.data(), p_f.data() + 3);
@@ -352,7 +375,9 @@ struct SlidingWindowEstimator::Impl
 			prior.J.middleCols(oa, 6) += Jl * D * Ha;
 			prior.J.middleCols(ob, 6) += Jl * D * Hb;
 			prior.J.middleCols(ol, 3) = Jl * D * Hl;
-			prior.has_information = false;
+			refresh_information(oa, 6);
+			refresh_information(ob, 6);
+			refresh_information(ol, 3);
 			prior.vars[pidx] = vl2;
 			prior.x_lin[pidx] = std::vector<double>(lam2_lin.data(), lam2_lin.data() + 3);
 			if (opt.first_estimate_jacobians) (*fej)[vl2] = std::vector<double>(lam2_f.data(), lam2_f.data() + 3);

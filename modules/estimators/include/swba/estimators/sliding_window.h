@@ -76,7 +76,7 @@ struct SlidingWindowOptions
 	io::OdometryInformationOptions odometry;
 	/** Relative eigenvalue threshold of the marginal prior (see swba::marginalize). Default 1e-12. */
 	double marginalization_threshold = 1e-12;
-	/** LM options of the per-step solve. Defaults: max_iterations 10, function_tolerance 1e-6. With
+	/** LM options of the per-step solve. Defaults: max_iterations 10, function_tolerance 1e-7. With
 	 * linear_solver Auto and a prior over several landmarks (no Schur elimination possible) the window
 	 * asks for DenseNormal directly (SparseNormal above dense_max_dim), which is what Auto would pick. */
 	SolverOptions solver = default_solver_options();
