@@ -96,8 +96,9 @@ DenseNormalSystem dense_normal_system(const Problem& problem, const std::vector<
 /** swba::marginalize for keep = the first `num_keep` coordinates of (H, b) and marg = the rest, with the
  * square root from a blocked Cholesky (Eigen::LLT; J = Lᵀ upper triangular in the given order,
  * e = −L⁻¹ b*) when H* is clearly positive definite (every pivot L_ii² above threshold·max): the same
- * prior as swba::marginalize's pivoted LDLᵀ, several times faster on the dense priors of a SLAM window
- * (hundreds of unknowns; Eigen's LDLᵀ is unblocked). Otherwise (rank-deficient H*, e.g. a free gauge)
+ * prior as swba::marginalize's pivoted LDLᵀ, faster on the dense priors of a SLAM window (hundreds of
+ * unknowns; Eigen's LDLᵀ is unblocked). Otherwise (LLT fails or a pivot is tiny: a rank-deficient H*, e.g.
+ * a free gauge; frequent on real windows, see doc/run.md "Where the time goes")
  * it returns swba::marginalize's result. */
 MarginalizationResult marginalize_leading(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,
 										  double threshold);
