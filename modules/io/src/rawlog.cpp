@@ -82,128 +82,30 @@ class Reader
 
 	RawlogReaderOptions opt_;
 	Rawlog out_;
+	RawlogStepConverter converter_{opt_.require_landmark_ids};
 	std::set<int32_t> ids_;
-	std::size_t bearing_range_observations_ = 0;
 	std::size_t bare_observations_ = 0;
-	// Sensor description carried to steps without a bearing-range observation.
-	mrpt::poses::CPose3D last_sensor_pose_;
-	double last_std_[3] = {0, 0, 0};
 };
 
 void Reader::add_step(
 	const CActionCollection::Ptr& acts, std::size_t act_entry, const CSensoryFrame::Ptr& sf, std::size_t sf_entry)
 {
 	RawlogStep s;
-	s.index = out_.steps.size();
+	try
+	{
+		s = converter_.convert(acts, sf, where(converter_.steps(), act_entry, sf_entry),
+							   [this](const std::string& msg) { warn(msg); });
+	}
+	catch (const std::invalid_argument& e)
+	{
+		fail(e.what());
+	}
 	s.action_entry = act_entry;
 	s.frame_entry = sf_entry;
-	s.actions = acts;
-	s.observations = sf;
-	const std::string at = where(s.index, act_entry, sf_entry);
-
-	// Odometry.
-	s.has_odometry = acts->getFirstMovementEstimation(s.odometry);
-	if (s.has_odometry)
-	{
-		s.odometry_is_2d = !acts->getActionByClass<mrpt::obs::CActionRobotMovement3D>() &&
-			acts->getActionByClass<mrpt::obs::CActionRobotMovement2D>();
-		if (!finite_pose(s.odometry.mean)) fail(at + ": odometry mean is not finite");
-		for (int i = 0; i < 6; i++)
-		{
-			for (int j = 0; j < 6; j++)
-				if (!std::isfinite(s.odometry.cov(i, j))) fail(at + ": odometry covariance is not finite");
-			if (s.odometry.cov(i, i) < 0) fail(at + ": odometry covariance has a negative variance");
-		}
-		out_.steps_with_odometry++;
-		if (s.odometry_is_2d) out_.steps_with_2d_odometry++;
-	}
-	else
-	{
-		s.odometry = mrpt::poses::CPose3DPDFGaussian();
-		s.odometry.cov.setZero();
-	}
-
-	// Bearing-range observations.
-	bool any_skipped = false;
-	std::vector<std::vector<CObservationBearingRange::TMeasurement>> kept_per_obs;
-	for (const auto& o : *sf)
-	{
-		if (!o || !IS_CLASS(*o, CObservationBearingRange)) continue;
-		const auto& br = dynamic_cast<const CObservationBearingRange&>(*o);
-		bearing_range_observations_++;
-		const double stds[3] = {br.sensor_std_range, br.sensor_std_yaw, br.sensor_std_pitch};
-		if (!finite_pose(br.sensorLocationOnRobot)) fail(at + ": sensorLocationOnRobot is not finite");
-		for (double v : stds)
-			if (!std::isfinite(v) || v < 0)
-				fail(at + ": sensor_std_range/yaw/pitch must be finite and >= 0");
-		if (!s.has_observation)
-		{
-			s.has_observation = true;
-			s.sensor_pose = br.sensorLocationOnRobot;
-			s.sensor_std_range = stds[0];
-			s.sensor_std_yaw = stds[1];
-			s.sensor_std_pitch = stds[2];
-		}
-		else if (
-			!(br.sensorLocationOnRobot == s.sensor_pose) || stds[0] != s.sensor_std_range ||
-			stds[1] != s.sensor_std_yaw || stds[2] != s.sensor_std_pitch)
-		{
-			fail(at + ": several CObservationBearingRange with different sensor poses or noise in one sensory "
-					  "frame (not supported)");
-		}
-		std::vector<CObservationBearingRange::TMeasurement> kept;
-		for (std::size_t i = 0; i < br.sensedData.size(); i++)
-		{
-			const auto& m = br.sensedData[i];
-			if (const char* why = invalid_reading(m, opt_.require_landmark_ids))
-			{
-				s.skipped_readings++;
-				any_skipped = true;
-				warn(at + ": reading " + std::to_string(i) + " (landmark " + std::to_string(m.landmarkID) +
-					 ") skipped: " + why);
-				continue;
-			}
-			kept.push_back(m);
-			s.readings.push_back({m.landmarkID, m.range, m.yaw, m.pitch});
-			ids_.insert(m.landmarkID);
-		}
-		kept_per_obs.push_back(std::move(kept));
-	}
-	if (s.has_observation)
-	{
-		last_sensor_pose_ = s.sensor_pose;
-		last_std_[0] = s.sensor_std_range;
-		last_std_[1] = s.sensor_std_yaw;
-		last_std_[2] = s.sensor_std_pitch;
-	}
-	else
-	{
-		out_.steps_without_observation++;
-		s.sensor_pose = last_sensor_pose_;
-		s.sensor_std_range = last_std_[0];
-		s.sensor_std_yaw = last_std_[1];
-		s.sensor_std_pitch = last_std_[2];
-	}
-
-	// Give every consumer (MRPT's EKF too) the same readings: a cleaned copy of the frame.
-	if (any_skipped)
-	{
-		auto clean = std::make_shared<CSensoryFrame>();
-		std::size_t j = 0;
-		for (const auto& o : *sf)
-		{
-			if (o && IS_CLASS(*o, CObservationBearingRange))
-			{
-				auto c = std::make_shared<CObservationBearingRange>(dynamic_cast<const CObservationBearingRange&>(*o));
-				c->sensedData = kept_per_obs[j++];
-				clean->insert(c);
-			}
-			else
-				clean->insert(o);
-		}
-		s.observations = clean;
-	}
-
+	if (s.has_odometry) out_.steps_with_odometry++;
+	if (s.has_odometry && s.odometry_is_2d) out_.steps_with_2d_odometry++;
+	if (!s.has_observation) out_.steps_without_observation++;
+	for (const auto& r : s.readings) ids_.insert(r.landmark_id);
 	out_.readings += s.readings.size();
 	out_.skipped_readings += s.skipped_readings;
 	out_.steps.push_back(std::move(s));
@@ -312,7 +214,7 @@ Rawlog Reader::run()
 			 " action collections holds a CActionRobotMovement2D/3D (" + counts + ")");
 	if (out_.readings == 0)
 	{
-		std::string why = std::to_string(bearing_range_observations_) + " CObservationBearingRange, " +
+		std::string why = std::to_string(converter_.bearing_range_observations()) + " CObservationBearingRange, " +
 			std::to_string(out_.skipped_readings) + " readings skipped as invalid";
 		if (out_.skipped_readings > 0 && opt_.require_landmark_ids)
 			why += "; unknown landmark IDs (-1) need data association, which is not supported";
@@ -354,6 +256,121 @@ std::string mrpt_exception_summary(const std::string& what)
 	}
 	if (!message.empty()) return location.empty() ? message : message + " (" + location + ")";
 	return first.empty() ? what : first;
+}
+
+RawlogStep RawlogStepConverter::convert(const CActionCollection::Ptr& acts, const CSensoryFrame::Ptr& sf,
+										const std::string& at, const std::function<void(const std::string&)>& warn)
+{
+	auto fail = [&](const std::string& msg) { throw std::invalid_argument(at + ": " + msg); };
+	if (!acts) fail("null action collection");
+	if (!sf) fail("null sensory frame");
+	RawlogStep s;
+	s.index = steps_;
+	s.actions = acts;
+	s.observations = sf;
+
+	// Odometry.
+	s.has_odometry = acts->getFirstMovementEstimation(s.odometry);
+	if (s.has_odometry)
+	{
+		s.odometry_is_2d = !acts->getActionByClass<mrpt::obs::CActionRobotMovement3D>() &&
+			acts->getActionByClass<mrpt::obs::CActionRobotMovement2D>();
+		if (!finite_pose(s.odometry.mean)) fail("odometry mean is not finite");
+		for (int i = 0; i < 6; i++)
+		{
+			for (int j = 0; j < 6; j++)
+				if (!std::isfinite(s.odometry.cov(i, j))) fail("odometry covariance is not finite");
+			if (s.odometry.cov(i, i) < 0) fail("odometry covariance has a negative variance");
+		}
+	}
+	else
+	{
+		s.odometry = mrpt::poses::CPose3DPDFGaussian();
+		s.odometry.cov.setZero();
+	}
+
+	// Bearing-range observations.
+	bool any_skipped = false;
+	std::size_t br_count = 0;
+	std::vector<std::vector<CObservationBearingRange::TMeasurement>> kept_per_obs;
+	for (const auto& o : *sf)
+	{
+		if (!o || !IS_CLASS(*o, CObservationBearingRange)) continue;
+		const auto& br = dynamic_cast<const CObservationBearingRange&>(*o);
+		br_count++;
+		const double stds[3] = {br.sensor_std_range, br.sensor_std_yaw, br.sensor_std_pitch};
+		if (!finite_pose(br.sensorLocationOnRobot)) fail("sensorLocationOnRobot is not finite");
+		for (double v : stds)
+			if (!std::isfinite(v) || v < 0) fail("sensor_std_range/yaw/pitch must be finite and >= 0");
+		if (!s.has_observation)
+		{
+			s.has_observation = true;
+			s.sensor_pose = br.sensorLocationOnRobot;
+			s.sensor_std_range = stds[0];
+			s.sensor_std_yaw = stds[1];
+			s.sensor_std_pitch = stds[2];
+		}
+		else if (
+			!(br.sensorLocationOnRobot == s.sensor_pose) || stds[0] != s.sensor_std_range ||
+			stds[1] != s.sensor_std_yaw || stds[2] != s.sensor_std_pitch)
+		{
+			fail("several CObservationBearingRange with different sensor poses or noise in one sensory frame (not "
+				 "supported)");
+		}
+		std::vector<CObservationBearingRange::TMeasurement> kept;
+		for (std::size_t i = 0; i < br.sensedData.size(); i++)
+		{
+			const auto& m = br.sensedData[i];
+			if (const char* why = invalid_reading(m, require_landmark_ids_))
+			{
+				s.skipped_readings++;
+				any_skipped = true;
+				if (warn)
+					warn(at + ": reading " + std::to_string(i) + " (landmark " + std::to_string(m.landmarkID) +
+						 ") skipped: " + why);
+				continue;
+			}
+			kept.push_back(m);
+			s.readings.push_back({m.landmarkID, m.range, m.yaw, m.pitch});
+		}
+		kept_per_obs.push_back(std::move(kept));
+	}
+	if (s.has_observation)
+	{
+		last_sensor_pose_ = s.sensor_pose;
+		last_std_[0] = s.sensor_std_range;
+		last_std_[1] = s.sensor_std_yaw;
+		last_std_[2] = s.sensor_std_pitch;
+	}
+	else
+	{
+		s.sensor_pose = last_sensor_pose_;
+		s.sensor_std_range = last_std_[0];
+		s.sensor_std_yaw = last_std_[1];
+		s.sensor_std_pitch = last_std_[2];
+	}
+
+	// Give every consumer (MRPT's EKF too) the same readings: a cleaned copy of the frame.
+	if (any_skipped)
+	{
+		auto clean = std::make_shared<CSensoryFrame>();
+		std::size_t j = 0;
+		for (const auto& o : *sf)
+		{
+			if (o && IS_CLASS(*o, CObservationBearingRange))
+			{
+				auto c = std::make_shared<CObservationBearingRange>(dynamic_cast<const CObservationBearingRange&>(*o));
+				c->sensedData = kept_per_obs[j++];
+				clean->insert(c);
+			}
+			else
+				clean->insert(o);
+		}
+		s.observations = clean;
+	}
+	bearing_range_observations_ += br_count;
+	steps_++;
+	return s;
 }
 
 Rawlog read_rawlog(const std::string& path, const RawlogReaderOptions& options)

@@ -43,13 +43,16 @@ struct MrptStepConverterOptions
 };
 
 /** Converts MRPT objects into io::RawlogStep, numbering the steps 0, 1, 2, … (the step index is the
- * trajectory clock: the estimate after step k has t = k + 1) and carrying the sensor description
- * (pose on the robot, noise) to steps whose frame has no bearing-range observation, as
- * io::read_rawlog does. Stateless apart from the step counter and that carried sensor. */
+ * trajectory clock: the estimate after step k has t = k + 1), with io::read_rawlog's own conversion
+ * (io::RawlogStepConverter): the sensor description is carried to steps whose frame has no
+ * bearing-range observation. */
 class MrptStepConverter
 {
    public:
-	explicit MrptStepConverter(const MrptStepConverterOptions& options = {}) : options_(options) {}
+	explicit MrptStepConverter(const MrptStepConverterOptions& options = {})
+		: converter_(options.require_landmark_ids)
+	{
+	}
 
 	/** The next step from an action collection (its first robot movement, 2D or 3D, is the odometry;
 	 * none → has_odometry = false) and the sensory frame that follows it (its
@@ -70,13 +73,10 @@ class MrptStepConverter
 						   const mrpt::obs::CObservationBearingRange& observation);
 
 	/** Steps converted so far (the index the next step gets). */
-	std::size_t steps() const { return steps_; }
+	std::size_t steps() const { return converter_.steps(); }
 
    private:
-	MrptStepConverterOptions options_;
-	std::size_t steps_ = 0;
-	mrpt::poses::CPose3D last_sensor_pose_;
-	double last_std_[3] = {0, 0, 0};
+	io::RawlogStepConverter converter_;  ///< read_rawlog's own conversion
 };
 
 /** A SlidingWindowEstimator fed with MRPT objects: MrptStepConverter + estimator in one object,

@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -81,6 +82,38 @@ struct RawlogReaderOptions
 	std::size_t max_steps = 0;
 	/** At most this many warning texts are kept in `Rawlog::warnings` (all are counted). Default 20. */
 	std::size_t max_warning_texts = 20;
+};
+
+/** Turns MRPT (action collection, sensory frame) pairs into RawlogSteps numbered 0, 1, 2, … with
+ * read_rawlog()'s rules: the first robot movement (2D or 3D) is the odometry (none → has_odometry =
+ * false); the frame's CObservationBearingRange readings become `readings`, invalid single readings
+ * (non-finite, range ≤ 0, landmarkID < 0 when IDs are required) are dropped and counted, and
+ * `observations` is then a cleaned copy of the frame; the sensor description is carried to steps
+ * whose frame has none. read_rawlog() and swba::estimators::MrptStepConverter both use it. */
+class RawlogStepConverter
+{
+   public:
+	explicit RawlogStepConverter(bool require_landmark_ids = true) : require_landmark_ids_(require_landmark_ids) {}
+
+	/** The next step. `where` names it in messages ("step 12 (rawlog entries 25/26)"); `warn`, if
+	 * set, receives one text per dropped reading. Throws std::invalid_argument("<where>: <what>")
+	 * on a null pointer, a non-finite odometry mean or covariance, a negative odometry variance, a
+	 * non-finite sensor pose or noise, or bearing-range observations with different sensor
+	 * poses/noise in one frame; the step counter then does not advance. */
+	RawlogStep convert(const mrpt::obs::CActionCollection::Ptr& actions, const mrpt::obs::CSensoryFrame::Ptr& frame,
+					   const std::string& where, const std::function<void(const std::string&)>& warn = {});
+
+	/** Steps converted so far (the index the next step gets). */
+	std::size_t steps() const { return steps_; }
+	/** CObservationBearingRange objects seen so far. */
+	std::size_t bearing_range_observations() const { return bearing_range_observations_; }
+
+   private:
+	bool require_landmark_ids_;
+	std::size_t steps_ = 0;
+	std::size_t bearing_range_observations_ = 0;
+	mrpt::poses::CPose3D last_sensor_pose_;  ///< carried to steps without a bearing-range observation
+	double last_std_[3] = {0, 0, 0};
 };
 
 /** A rawlog read into steps, with counts for reports. */
