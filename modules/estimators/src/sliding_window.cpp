@@ -268,6 +268,19 @@ struct SlidingWindowEstimator::Impl
 		return static_cast<int>(prior.vars.size()) - 1;
 	}
 
+	/** Moves landmark `lm` onto variable `v` (its new parameterisation, already set in `lm`): removes
+	 * its observation factors and old variable, and rebuilds the factors on `v` (an exact rewrite). */
+	void replace_landmark_variable(Landmark& lm, VariableId v)
+	{
+		for (auto& o : lm.obs) problem.remove_factor(o.factor);
+		fej->erase(lm.var);
+		landmark_of_var.erase(lm.var);
+		problem.remove_variable(lm.var);
+		lm.var = v;
+		landmark_of_var[v] = lm.id;
+		for (auto& o : lm.obs) o.factor = add_observation_factor(lm, o);
+	}
+
 	/** Switches inverse-depth landmark `lm`, which is in the marginal prior and whose anchor a is about
 	 * to be marginalised, to world XYZ p: an exact rewrite of its factors, and a first-order change of
 	 * variables λ = g(T_a, p) (p seen from a's sensor, as inverse depth) in the prior, at the first
@@ -312,14 +325,8 @@ struct SlidingWindowEstimator::Impl
 		if (opt.first_estimate_jacobians) (*fej)[vp] = std::vector<double>(p_f.data(), p_f.data() + 3);
 		set_prior(prior);
 
-		for (auto& o : lm.obs) problem.remove_factor(o.factor);
-		fej->erase(vl);
-		landmark_of_var.erase(vl);
-		problem.remove_variable(vl);
-		lm.var = vp;
 		lm.world_xyz = true;
-		landmark_of_var[vp] = lm.id;
-		for (auto& o : lm.obs) o.factor = add_observation_factor(lm, o);
+		replace_landmark_variable(lm, vp);
 	}
 
 	/** Re-anchors inverse-depth landmark `lm` to pose step `b`: an exact rewrite of its factors, and
@@ -383,14 +390,8 @@ struct SlidingWindowEstimator::Impl
 			if (opt.first_estimate_jacobians) (*fej)[vl2] = std::vector<double>(lam2_f.data(), lam2_f.data() + 3);
 			set_prior(prior);
 		}
-		for (auto& o : lm.obs) problem.remove_factor(o.factor);
-		fej->erase(vl);
-		landmark_of_var.erase(vl);
-		problem.remove_variable(vl);
-		lm.var = vl2;
 		lm.anchor_step = b;
-		landmark_of_var[vl2] = lm.id;
-		for (auto& o : lm.obs) o.factor = add_observation_factor(lm, o);
+		replace_landmark_variable(lm, vl2);
 	}
 
 	void add_step(const io::RawlogStep& step, StepSummary& sum)
