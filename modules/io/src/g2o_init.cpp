@@ -2,6 +2,8 @@
 #include <swba/io/g2o_init.h>
 #include <swba/linear/block_cholesky.h>
 
+#include "angle_wrap.h"
+
 #include <Eigen/Cholesky>
 #include <Eigen/SVD>
 #include <algorithm>
@@ -16,12 +18,7 @@ namespace swba::io
 {
 namespace
 {
-double wrap_pm_pi(double a)
-{
-	a = std::remainder(a, 2.0 * M_PI);
-	if (a <= -M_PI) a += 2.0 * M_PI;
-	return a;
-}
+using detail::wrap_pm_pi;
 
 Eigen::Matrix2d rot2(double theta)
 {

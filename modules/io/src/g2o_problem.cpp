@@ -3,6 +3,8 @@
 #include <swba/factors/relative_pose.h>
 #include <swba/io/g2o.h>
 
+#include "angle_wrap.h"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -10,12 +12,7 @@ namespace swba::io
 {
 namespace
 {
-double wrap_angle_pm_pi(double a)
-{
-	a = std::remainder(a, 2.0 * M_PI);
-	if (a <= -M_PI) a += 2.0 * M_PI;
-	return a;
-}
+using detail::wrap_pm_pi;
 
 void to_storage(const PoseGraphVertex3& v, double* x)
 {
@@ -116,7 +113,7 @@ void update_pose_graph(PoseGraph& g, const PoseGraphProblem& pp)
 		const double* p = pp.problem.value(pp.variable_of.at(id));
 		v.x = p[0];
 		v.y = p[1];
-		v.theta = wrap_angle_pm_pi(p[2]);
+		v.theta = wrap_pm_pi(p[2]);
 	}
 }
 
@@ -143,7 +140,7 @@ double pose_graph_cost(const PoseGraph& g, RotationError rotation_error)
 		const double c = std::cos(a.theta), s = std::sin(a.theta);
 		const double dx = b.x - a.x, dy = b.y - a.y;
 		const Eigen::Vector3d r(c * dx + s * dy - e.x, -s * dx + c * dy - e.y,
-								wrap_angle_pm_pi(b.theta - a.theta - e.theta));
+								wrap_pm_pi(b.theta - a.theta - e.theta));
 		cost += 0.5 * r.dot(e.information * r);
 	}
 	return cost;
