@@ -1,6 +1,6 @@
 #include <swba/estimators/first_estimate.h>
 
-#include <Eigen/Core>
+#include <vector>
 
 namespace swba::estimators
 {
@@ -17,21 +17,36 @@ FirstEstimateFactor::FirstEstimateFactor(std::shared_ptr<const Factor> inner, st
 bool FirstEstimateFactor::evaluate(const double* const* x, double* residual, double* const* jacobians) const
 {
 	if (!jacobians) return inner_->evaluate(x, residual, nullptr);
+	// Called for every factor in every LM iteration: no heap allocation for the usual sizes
+	// (≤ 8 variables, residual ≤ 16), a heap fallback beyond.
+	constexpr int kStackVariables = 8, kStackResidual = 16;
 	const int k = num_variables();
-	std::vector<const double*> xf(x, x + k);
+	const double* xf_stack[kStackVariables];
+	std::vector<const double*> xf_heap;
+	const double** xf = xf_stack;
+	if (k > kStackVariables)
+	{
+		xf_heap.resize(k);
+		xf = xf_heap.data();
+	}
 	bool any = false;
 	for (int i = 0; i < k; i++)
 	{
 		auto it = registry_->find(variables_[i]);
-		if (it != registry_->end())
-		{
-			xf[i] = it->second.data();
-			any = true;
-		}
+		xf[i] = it != registry_->end() ? it->second.data() : x[i];
+		any = any || it != registry_->end();
 	}
 	if (!any) return inner_->evaluate(x, residual, jacobians);
 	if (!inner_->evaluate(x, residual, nullptr)) return false;
-	Eigen::VectorXd scratch(residual_dim());
-	return inner_->evaluate(xf.data(), scratch.data(), jacobians);
+	// Residual at the current values (above); Jacobians at the first estimates, residual discarded.
+	double scratch_stack[kStackResidual];
+	std::vector<double> scratch_heap;
+	double* scratch = scratch_stack;
+	if (residual_dim() > kStackResidual)
+	{
+		scratch_heap.resize(residual_dim());
+		scratch = scratch_heap.data();
+	}
+	return inner_->evaluate(xf, scratch, jacobians);
 }
 }  // namespace swba::estimators
