@@ -212,16 +212,54 @@ TEST(Solver, DeterministicAcrossThreadCounts)
 	EXPECT_EQ(results[0], results[1]);
 }
 
-TEST(Solver, ExplicitSchurRejectsFactorBetweenEliminableVariablesAutoFallsBack)
+// A factor between two eliminable points (like a marginalisation prior over landmarks): the explicit
+// Schur solvers reject it; Auto keeps the two linked points in the reduced system, eliminates the
+// other 28, and its one LM step equals the dense full normal-equations step.
+TEST(Solver, AutoKeepsLinkedEliminableVariablesAndStillEliminatesTheRest)
 {
-	auto s = make_scene(0.0, 0.0);
-	s.problem.add_factor(std::make_shared<PointDifferenceFactor>(Eigen::Vector3d(0, 0, 0)), {s.points[0], s.points[1]});
+	auto build = [] {
+		auto s = make_scene(0.01, 0.05);
+		auto f = std::make_shared<PointDifferenceFactor>(Eigen::Vector3d(0.1, -0.2, 0.05));
+		s.problem.add_factor(f, {s.points[0], s.points[1]});
+		return s;
+	};
+	auto ref_scene = build();
 	SolverOptions opt;
 	opt.linear_solver = LinearSolverType::DenseSchur;
-	EXPECT_THROW(solve(s.problem, opt), std::invalid_argument);
+	EXPECT_THROW(solve(ref_scene.problem, opt), std::invalid_argument);
+
+	std::vector<VariableId> order;
+	for (size_t i = 1; i < ref_scene.poses.size(); i++) order.push_back(ref_scene.poses[i]);
+	for (auto p : ref_scene.points) order.push_back(p);
+	const auto sys = linearize_dense(ref_scene.problem, order);
+	opt.max_iterations = 1;
+	opt.initial_trust_region_radius = 1e3;
+	Eigen::MatrixXd A = sys.H;
+	for (int i = 0; i < A.rows(); i++)
+		A(i, i) += (1.0 / opt.initial_trust_region_radius) * std::clamp(sys.H(i, i), opt.min_lm_diagonal, opt.max_lm_diagonal);
+	const Eigen::VectorXd delta = A.ldlt().solve(sys.b);
+	Problem expected = ref_scene.problem;
+	for (size_t k = 0; k < order.size(); k++)
+	{
+		const auto& v = expected.variable(order[k]);
+		std::vector<double> x(v.value.size());
+		v.manifold->plus(v.value.data(), delta.data() + sys.offsets[k], x.data());
+		expected.set_value(order[k], x.data());
+	}
+
+	auto s = build();
 	opt.linear_solver = LinearSolverType::Auto;
 	const auto summary = solve(s.problem, opt);
-	EXPECT_EQ(summary.linear_solver_used, LinearSolverType::DenseNormal);
+	EXPECT_EQ(summary.linear_solver_used, LinearSolverType::DenseSchur);
+	EXPECT_EQ(summary.num_eliminated_variables, 28);
+	EXPECT_EQ(summary.num_kept_variables, 4 + 2);
+	EXPECT_EQ(summary.reduced_dim, 4 * 6 + 2 * 3);
+	ASSERT_EQ(summary.successful_steps, 1);
+	const auto got = all_values(s.problem), want = all_values(expected);
+	ASSERT_EQ(got.size(), want.size());
+	double worst = 0;
+	for (size_t i = 0; i < got.size(); i++) worst = std::max(worst, std::abs(got[i] - want[i]));
+	EXPECT_LT(worst, 1e-9);
 }
 
 TEST(Solver, InvalidOptionsAreRejected)

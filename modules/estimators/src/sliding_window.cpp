@@ -524,22 +524,6 @@ struct SlidingWindowEstimator::Impl
 			prior = Prior();
 	}
 
-	/** The solver options of a step: with Auto and a prior linking landmarks (Schur impossible; the
-	 * solver would find out by throwing and rebuilding), the choice Auto makes is given directly. */
-	SolverOptions step_solver_options() const
-	{
-		SolverOptions so = opt.solver;
-		if (so.linear_solver != LinearSolverType::Auto || prior.vars.empty()) return so;
-		int prior_landmarks = 0, dim = 0;
-		for (VariableId v : prior.vars)
-			if (landmark_of_var.count(v) && !problem.is_constant(v)) prior_landmarks++;
-		if (prior_landmarks < 2) return so;
-		for (const auto& [id, v] : problem.variables())
-			if (!v.constant) dim += v.manifold->tangent_size();
-		so.linear_solver = dim <= so.dense_max_dim ? LinearSolverType::DenseNormal : LinearSolverType::SparseNormal;
-		return so;
-	}
-
 	const StepSummary& process(const io::RawlogStep& step)
 	{
 		if (finished) throw std::logic_error("SlidingWindowEstimator: process() after finish()");
@@ -560,7 +544,7 @@ struct SlidingWindowEstimator::Impl
 					: elim.begin(problem, prior.factor, prior.vars, prior.J, prior.e, prior.x_lin,
 								 opt.marginalization_threshold, is_landmark);
 			if (reduced) prior.factor = -1;  // removed by begin(), re-added below
-			const Summary s = solve(problem, step_solver_options());
+			const Summary s = solve(problem, opt.solver);
 			if (reduced)
 			{
 				sum.prior_only_landmarks = elim.num_eliminated();

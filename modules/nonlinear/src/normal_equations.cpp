@@ -13,9 +13,29 @@ namespace swba::detail
 // Below this many items a loop runs on one thread: thread start-up and barriers cost more.
 constexpr int kParallelMin = 2000;
 
-NormalEquations::NormalEquations(Problem& problem, bool use_schur, bool sparse, int num_threads)
+std::set<VariableId> linked_eliminable_variables(const Problem& problem)
+{
+	std::set<VariableId> linked;
+	std::vector<VariableId> elim;
+	for (const auto& [fid, fe] : problem.factors())
+	{
+		elim.clear();
+		for (VariableId v : fe.variables)
+		{
+			const auto& var = problem.variables().at(v);
+			if (!var.constant && var.group == Group::Eliminable) elim.push_back(v);
+		}
+		if (elim.size() > 1) linked.insert(elim.begin(), elim.end());
+	}
+	return linked;
+}
+
+NormalEquations::NormalEquations(Problem& problem, bool use_schur, bool sparse, int num_threads,
+								 bool keep_linked)
 	: problem_(problem), use_schur_(use_schur), sparse_(sparse), num_threads_(std::max(1, num_threads))
 {
+	const std::set<VariableId> linked =
+		use_schur_ && keep_linked ? linked_eliminable_variables(problem_) : std::set<VariableId>();
 	// Ordering: kept variables first (by id), then eliminated ones (by id); constants removed.
 	std::map<VariableId, std::pair<int, int>> where;  // id -> (kind, index)
 	for (auto& [id, cv] : problem_.variables())
@@ -28,7 +48,7 @@ NormalEquations::NormalEquations(Problem& problem, bool use_schur, bool sparse, 
 			continue;
 		}
 		const int t = v.manifold->tangent_size();
-		if (use_schur_ && v.group == Group::Eliminable)
+		if (use_schur_ && v.group == Group::Eliminable && linked.count(id) == 0)
 		{
 			where[id] = {1, static_cast<int>(elim_.size())};
 			elim_.push_back({id, &v, t, elim_dim_});

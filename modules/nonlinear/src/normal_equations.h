@@ -7,6 +7,7 @@
 #include <swba/nonlinear/solver.h>
 
 #include <memory>
+#include <set>
 #include <vector>
 
 namespace swba::detail
@@ -38,12 +39,20 @@ struct Contribution
 	int factor, slot_a, slot_b;
 };
 
+/** The non-constant eliminable variables that share a factor with another non-constant eliminable
+ * variable (e.g. landmarks linked by a marginalisation prior). Their block of H is not block diagonal,
+ * so they cannot be eliminated one by one; every other eliminable variable still can (Ceres asks the
+ * user for such an independent set; here it is the eliminable group minus these). */
+std::set<VariableId> linked_eliminable_variables(const Problem& problem);
+
 class NormalEquations
 {
    public:
 	/** Builds the ordering (kept first, then eliminated; constants removed) and all block patterns.
-	 * `use_schur` false puts every non-constant variable in the kept group. */
-	NormalEquations(Problem& problem, bool use_schur, bool sparse, int num_threads);
+	 * `use_schur` false puts every non-constant variable in the kept group. `keep_linked` (only with
+	 * `use_schur`): eliminable variables in linked_eliminable_variables() are kept instead of
+	 * eliminated; without it such a factor throws std::invalid_argument. */
+	NormalEquations(Problem& problem, bool use_schur, bool sparse, int num_threads, bool keep_linked = false);
 
 	int kept_dim() const { return kept_dim_; }
 	int elim_dim() const { return elim_dim_; }

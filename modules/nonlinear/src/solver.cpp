@@ -130,13 +130,13 @@ double seconds_since(Clock::time_point t0)
 
 /** Schur elimination pays when eliminated variables have few observations each (BAL: ~4 per point);
  * with long feature tracks (SLAM: hundreds of poses per landmark) the reduced system fills in
- * (Σ n_l² blocks) and the full sparse normal equations are cheaper. */
-static bool schur_pays_off(const Problem& problem)
+ * (Σ n_l² blocks) and the full sparse normal equations are cheaper. Variables in `linked` stay kept. */
+static bool short_tracks(const Problem& problem, const std::set<VariableId>& linked)
 {
 	double terms = 0, blocks = 0;
 	for (const auto& [id, v] : problem.variables())
 	{
-		if (v.constant || v.group != Group::Eliminable) continue;
+		if (v.constant || v.group != Group::Eliminable || linked.count(id)) continue;
 		const double n = static_cast<double>(v.factors.size());
 		terms += n * (n + 1) / 2;
 		blocks += n;
@@ -157,9 +157,6 @@ Summary solve(Problem& problem, const SolverOptions& options)
 	Summary summary;
 
 	// Choose the linear solver.
-	bool has_elim = false;
-	for (const auto& [id, v] : problem.variables())
-		if (!v.constant && v.group == Group::Eliminable) has_elim = true;
 	bool use_schur = false, sparse = false;
 	LinearSolverType used = options.linear_solver;
 	std::unique_ptr<detail::NormalEquations> ne;
@@ -169,29 +166,31 @@ Summary solve(Problem& problem, const SolverOptions& options)
 		case LinearSolverType::SparseSchur: use_schur = sparse = true; break;
 		case LinearSolverType::DenseNormal: break;
 		case LinearSolverType::SparseNormal: sparse = true; break;
-		case LinearSolverType::Auto: use_schur = has_elim && schur_pays_off(problem); break;
+		case LinearSolverType::Auto: break;
 	}
 	if (options.linear_solver == LinearSolverType::Auto)
 	{
-		// Dimension of the system to factorize decides dense vs sparse.
-		int dim = 0;
+		// Eliminable variables linked to each other by a factor (a marginalisation prior over landmarks)
+		// stay in the reduced system; the others are eliminated when that pays: with short tracks, or
+		// whenever the full system would be factorised densely anyway (eliminating a variable seen by n
+		// kept blocks costs O((n·t)²) flops, never more than carrying its rows through the dense LLT).
+		const std::set<VariableId> linked = detail::linked_eliminable_variables(problem);
+		int full_dim = 0, reduced_dim = 0;
+		bool has_elim = false;
 		for (const auto& [id, v] : problem.variables())
-			if (!v.constant && !(use_schur && v.group == Group::Eliminable)) dim += v.manifold->tangent_size();
-		sparse = dim > options.dense_max_dim;
-		try
 		{
-			ne = std::make_unique<detail::NormalEquations>(problem, use_schur, sparse, options.num_threads);
+			if (v.constant) continue;
+			const int t = v.manifold->tangent_size();
+			full_dim += t;
+			if (v.group == Group::Eliminable && linked.count(id) == 0)
+				has_elim = true;
+			else
+				reduced_dim += t;
 		}
-		catch (const std::invalid_argument&)
-		{
-			// A factor between two eliminable variables: fall back to the full normal equations.
-			use_schur = false;
-			dim = 0;
-			for (const auto& [id, v] : problem.variables())
-				if (!v.constant) dim += v.manifold->tangent_size();
-			sparse = dim > options.dense_max_dim;
-			ne = std::make_unique<detail::NormalEquations>(problem, false, sparse, options.num_threads);
-		}
+		use_schur = has_elim && (full_dim <= options.dense_max_dim || short_tracks(problem, linked));
+		const int dim = use_schur ? reduced_dim : full_dim;
+		ne = std::make_unique<detail::NormalEquations>(problem, use_schur, dim > options.dense_max_dim,
+													   options.num_threads, /*keep_linked=*/true);
 		// Dense only pays when the reduced system is small or mostly filled: a pose graph of 744
 		// unknowns with ~5 % block fill factorises ~8× faster with CHOLMOD than with a dense LLT.
 		sparse = !(dim <= kAutoDenseAlwaysDim ||

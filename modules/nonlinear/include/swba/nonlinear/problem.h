@@ -4,7 +4,8 @@
  *
  * Variables belong to a group: `Group::Kept` (poses, cameras) or `Group::Eliminable` (landmarks,
  * points). The solver orders kept variables first and eliminates the eliminable group by a Schur
- * complement; this requires that no factor connects two eliminable variables (checked).
+ * complement; an eliminable variable that shares a factor with another one cannot be eliminated on
+ * its own: LinearSolverType::Auto keeps it in the reduced system, the explicit Schur types throw.
  * Constant variables are removed from the ordering entirely. */
 #pragma once
 

@@ -13,7 +13,8 @@ namespace swba
 {
 enum class LinearSolverType
 {
-	Auto,          ///< Schur when eliminable variables have short tracks (≤ ~15 factors each); dense below dense_max_dim
+	Auto,          ///< Schur of the eliminable variables not linked to each other by a factor, when their tracks
+	               ///< are short (≤ ~15 factors each) or the full system is ≤ dense_max_dim; dense below dense_max_dim
 	DenseSchur,    ///< Schur complement, reduced system by dense LDLT
 	SparseSchur,   ///< Schur complement, reduced system by CHOLMOD
 	DenseNormal,   ///< no elimination, full normal equations by dense LDLT
@@ -118,7 +119,8 @@ std::string iteration_log_header();
 std::string format_iteration(const IterationSummary& it);
 
 /** Runs Levenberg-Marquardt on `problem`, updating its values in place.
- * Throws std::invalid_argument when the options are invalid or the problem is malformed
- * (a factor between two eliminable variables). */
+ * Throws std::invalid_argument when the options are invalid or the problem is malformed (with
+ * DenseSchur/SparseSchur: a factor between two eliminable variables; Auto keeps those in the reduced
+ * system instead). */
 Summary solve(Problem& problem, const SolverOptions& options = {});
 }  // namespace swba
