@@ -433,7 +433,8 @@ double damped(double d, double lambda, double min_diag, double max_diag)
 }
 
 /** Calls f(integral_constant NP, integral_constant NL) for the uniform block sizes of BAL (9, 3),
- * pose + point (6, 3) and planar (3, 2 / 3, 3) problems; anything else runs with run-time sizes. */
+ * pose + point (6, 3) and planar (3, 2 / 3, 3) problems, and for mixed kept sizes with 3-dimensional
+ * eliminated variables (NP dynamic, dispatched per block); anything else runs with run-time sizes. */
 template <typename F>
 void dispatch_schur_sizes(int np, int nl, F&& f)
 {
@@ -446,6 +447,8 @@ void dispatch_schur_sizes(int np, int nl, F&& f)
 		f(std::integral_constant<int, 6>(), std::integral_constant<int, 1>());
 	else if (np == 3 && nl == 2)
 		f(std::integral_constant<int, 3>(), std::integral_constant<int, 2>());
+	else if (nl == 3)  // poses and landmarks kept together (a window's prior), points eliminated
+		f(Dyn(), std::integral_constant<int, 3>());
 	else
 		f(Dyn(), Dyn());
 }
@@ -500,6 +503,34 @@ inline void sub_WH_upper(const double* __restrict W, const double* __restrict H,
 			for (int k = 1; k < nl; k++) acc += W[i * nl + k] * H[k * n + j];
 			S[i * n + j] -= acc;
 		}
+}
+
+/** sub_WH / sub_WH_upper for a kept block size known only at run time: compiled kernels for the
+ * pose (6) and point (3) sizes, the generic loop otherwise. */
+template <int NL>
+inline void sub_WH_mixed(const double* W, const double* H, int na, int nb, int nl, double* S)
+{
+	if (na == 6 && nb == 6)
+		sub_WH<6, 6, NL>(W, H, na, nb, nl, S);
+	else if (na == 6 && nb == 3)
+		sub_WH<6, 3, NL>(W, H, na, nb, nl, S);
+	else if (na == 3 && nb == 6)
+		sub_WH<3, 6, NL>(W, H, na, nb, nl, S);
+	else if (na == 3 && nb == 3)
+		sub_WH<3, 3, NL>(W, H, na, nb, nl, S);
+	else
+		sub_WH<Eigen::Dynamic, Eigen::Dynamic, NL>(W, H, na, nb, nl, S);
+}
+
+template <int NL>
+inline void sub_WH_upper_mixed(const double* W, const double* H, int n, int nl, double* S)
+{
+	if (n == 6)
+		sub_WH_upper<6, NL>(W, H, n, nl, S);
+	else if (n == 3)
+		sub_WH_upper<3, NL>(W, H, n, nl, S);
+	else
+		sub_WH_upper<Eigen::Dynamic, NL>(W, H, n, nl, S);
 }
 
 template <int NL>
@@ -576,14 +607,20 @@ void NormalEquations::schur_row(int a, double lambda, double min_diag, double ma
 		const auto& list = elim_pl_[l];
 		const int* s_off = term_s_offset_.data() + pl_term_begin_[pa];
 		// The first block is (a, l) itself: the diagonal block S_aa, upper triangle only.
-		sub_WH_upper<NP, NL>(W, Hla, na, nl, S_.data() + *s_off);
+		if constexpr (NP > 0)
+			sub_WH_upper<NP, NL>(W, Hla, na, nl, S_.data() + *s_off);
+		else
+			sub_WH_upper_mixed<NL>(W, Hla, na, nl, S_.data() + *s_off);
 		s_off++;
 		for (size_t y = static_cast<size_t>(pl_pos_[pa]) + 1; y < list.size(); y++, s_off++)
 		{
 			const auto& pbb = pl_blocks_[list[y]];
 			const int nb = dim_or<NP>(kept_[pbb.kept].tangent);
 			const double* Hlb = Hlp_.data() + pbb.offset;
-			sub_WH<NP, NP, NL>(W, Hlb, na, nb, nl, S_.data() + *s_off);
+			if constexpr (NP > 0)
+				sub_WH<NP, NP, NL>(W, Hlb, na, nb, nl, S_.data() + *s_off);
+			else
+				sub_WH_mixed<NL>(W, Hlb, na, nb, nl, S_.data() + *s_off);
 		}
 	}
 	// Mirror the diagonal block's upper triangle (the back ends read full diagonal blocks).

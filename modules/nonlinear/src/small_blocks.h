@@ -63,6 +63,20 @@ inline void add_AtB(const double* A, const double* B, int m, int na, int nb, dou
 							C[i * Nb + j] += acc;
 						}
 				}
+				else if constexpr (Na > 0 && Nb > 0)
+				{
+					// Many rows (a marginalisation prior), small blocks: accumulate row by row in a
+					// local block (GEMM's packing costs more than the product at these sizes).
+					double acc[Na * Nb] = {};
+					for (int r = 0; r < m; r++)
+					{
+						const double* a = A + r * Na;
+						const double* b = B + r * Nb;
+						for (int i = 0; i < Na; i++)
+							for (int j = 0; j < Nb; j++) acc[i * Nb + j] += a[i] * b[j];
+					}
+					for (int k = 0; k < Na * Nb; k++) C[k] += acc[k];
+				}
 				else
 				{
 					Eigen::Map<const RM<Eigen::Dynamic, Eigen::Dynamic>> a(A, m, na);
@@ -89,6 +103,13 @@ inline void add_Atr(const double* A, const double* r, int m, int n, double* y)
 					for (int k = 1; k < M; k++) acc += A[k * N + i] * r[k];
 					y[i] += acc;
 				}
+			}
+			else if constexpr (N > 0)
+			{
+				double acc[N] = {};
+				for (int k = 0; k < m; k++)
+					for (int i = 0; i < N; i++) acc[i] += A[k * N + i] * r[k];
+				for (int i = 0; i < N; i++) y[i] += acc[i];
 			}
 			else
 			{
