@@ -35,7 +35,7 @@ class DenseBlockCholesky final : public BlockCholesky
 				Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
 					blocks[k], ni, nj);
 		}
-		llt_.compute(A_.selfadjointView<Eigen::Upper>());
+		llt_.compute(A_);  // LLT<…, Upper> reads the upper triangle only (the lower one is never written)
 		return llt_.info() == Eigen::Success;
 	}
 	void solve(double* b) const override

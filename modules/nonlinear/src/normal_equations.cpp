@@ -13,6 +13,40 @@ namespace swba::detail
 // Below this many items a loop runs on one thread: thread start-up and barriers cost more.
 constexpr int kParallelMin = 2000;
 
+namespace
+{
+/** (i, j) → block index, −1 if absent: a dense table while rows·cols is small (a window's system,
+ * rebuilt every step), an ordered map otherwise (BAL: thousands of cameras). */
+class BlockIndex
+{
+   public:
+	BlockIndex(int rows, int cols) : cols_(cols)
+	{
+		if (static_cast<long long>(rows) * cols <= kDenseMaxEntries)
+			dense_.assign(static_cast<size_t>(rows) * static_cast<size_t>(cols), -1);
+	}
+	int find(int i, int j) const
+	{
+		if (!dense_.empty()) return dense_[static_cast<size_t>(i) * cols_ + j];
+		const auto it = map_.find({i, j});
+		return it == map_.end() ? -1 : it->second;
+	}
+	void set(int i, int j, int index)
+	{
+		if (!dense_.empty())
+			dense_[static_cast<size_t>(i) * cols_ + j] = index;
+		else
+			map_[{i, j}] = index;
+	}
+
+   private:
+	static constexpr long long kDenseMaxEntries = 1 << 20;
+	size_t cols_;
+	std::vector<int> dense_;
+	std::map<std::pair<int, int>, int> map_;
+};
+}  // namespace
+
 std::set<VariableId> linked_eliminable_variables(const Problem& problem)
 {
 	std::set<VariableId> linked;
@@ -110,21 +144,22 @@ NormalEquations::NormalEquations(Problem& problem, bool use_schur, bool sparse, 
 
 void NormalEquations::build_patterns()
 {
+	const int nk = num_kept(), ne = num_elim();
 	// H_pp blocks.
-	std::map<std::pair<int, int>, int> pp_index;
+	BlockIndex pp_index(nk, nk);
 	auto pp_block = [&](int a, int b) {
-		auto key = std::make_pair(std::min(a, b), std::max(a, b));
-		auto it = pp_index.find(key);
-		if (it != pp_index.end()) return it->second;
-		const int idx = static_cast<int>(pp_blocks_.size());
-		pp_index.emplace(key, idx);
-		pp_blocks_.push_back(key);
+		const int i = std::min(a, b), j = std::max(a, b);
+		int idx = pp_index.find(i, j);
+		if (idx >= 0) return idx;
+		idx = static_cast<int>(pp_blocks_.size());
+		pp_index.set(i, j, idx);
+		pp_blocks_.emplace_back(i, j);
 		pp_contrib_.emplace_back();
 		return idx;
 	};
 	pp_diag_block_.resize(kept_.size());
-	for (int a = 0; a < num_kept(); a++) pp_diag_block_[a] = pp_block(a, a);
-	std::map<std::pair<int, int>, int> pl_index;
+	for (int a = 0; a < nk; a++) pp_diag_block_[a] = pp_block(a, a);
+	BlockIndex pl_index(nk, ne);
 	for (int f = 0; f < num_factors(); f++)
 	{
 		const auto& fs = factors_[f];
@@ -138,17 +173,13 @@ void NormalEquations::build_patterns()
 					pp_contrib_[pp_block(fs.index[s], fs.index[t])].push_back({f, s, t});
 				else if (fs.kind[t] == 1)
 				{
-					auto key = std::make_pair(fs.index[s], fs.index[t]);
-					auto it = pl_index.find(key);
-					int idx;
-					if (it == pl_index.end())
+					int idx = pl_index.find(fs.index[s], fs.index[t]);
+					if (idx < 0)
 					{
 						idx = static_cast<int>(pl_blocks_.size());
-						pl_index.emplace(key, idx);
+						pl_index.set(fs.index[s], fs.index[t], idx);
 						pl_blocks_.push_back({fs.index[s], fs.index[t], 0, {}});
 					}
-					else
-						idx = it->second;
 					pl_blocks_[idx].contrib.push_back({f, s, t});
 				}
 			}
@@ -171,8 +202,8 @@ void NormalEquations::build_patterns()
 		pp_blocks_ = std::move(blocks);
 		pp_contrib_ = std::move(contrib);
 		for (auto& d : pp_diag_block_) d = inv[d];
-		pp_index.clear();
-		for (size_t i = 0; i < pp_blocks_.size(); i++) pp_index[pp_blocks_[i]] = static_cast<int>(i);
+		for (size_t i = 0; i < pp_blocks_.size(); i++)
+			pp_index.set(pp_blocks_[i].first, pp_blocks_[i].second, static_cast<int>(i));
 	}
 	pp_offset_.resize(pp_blocks_.size());
 	int off = 0;
@@ -210,16 +241,19 @@ void NormalEquations::build_patterns()
 	Hll_inv_.assign(off, 0.0);
 	g_.assign(kept_dim_ + elim_dim_, 0.0);
 
-	// Reduced system pattern: H_pp blocks ∪ pairs of kept variables sharing an eliminated one.
-	std::map<std::pair<int, int>, int> s_index;
-	for (const auto& blk : pp_blocks_) s_index[blk];
+	// Reduced system pattern: H_pp blocks ∪ pairs of kept variables sharing an eliminated one, sorted.
+	std::vector<std::pair<int, int>> s_keys(pp_blocks_);
 	for (size_t l = 0; l < elim_.size(); l++)
 	{
 		const auto& list = elim_pl_[l];
 		// list is sorted by kept index, so pl_blocks_[list[x]].kept ≤ pl_blocks_[list[y]].kept for x ≤ y.
 		for (size_t x = 0; x < list.size(); x++)
-			for (size_t y = x; y < list.size(); y++) s_index[{pl_blocks_[list[x]].kept, pl_blocks_[list[y]].kept}];
+			for (size_t y = x; y < list.size(); y++)
+				s_keys.emplace_back(pl_blocks_[list[x]].kept, pl_blocks_[list[y]].kept);
 	}
+	std::sort(s_keys.begin(), s_keys.end());
+	s_keys.erase(std::unique(s_keys.begin(), s_keys.end()), s_keys.end());
+	BlockIndex s_index(nk, nk);
 	s_pattern_.block_sizes.clear();
 	for (const auto& v : kept_) s_pattern_.block_sizes.push_back(v.tangent);
 	s_pattern_.upper_blocks.clear();
@@ -227,12 +261,12 @@ void NormalEquations::build_patterns()
 	s_offset_.clear();
 	s_row_begin_.assign(kept_.size() + 1, 0);
 	off = 0;
-	for (auto& [key, index] : s_index)
+	for (const auto& key : s_keys)
 	{
-		index = static_cast<int>(s_pattern_.upper_blocks.size());
+		const int index = static_cast<int>(s_pattern_.upper_blocks.size());
+		s_index.set(key.first, key.second, index);
 		s_pattern_.upper_blocks.push_back(key);
-		auto it = pp_index.find(key);
-		s_pp_block_.push_back(it == pp_index.end() ? -1 : it->second);
+		s_pp_block_.push_back(pp_index.find(key.first, key.second));
 		s_offset_.push_back(off);
 		off += kept_[key.first].tangent * kept_[key.second].tangent;
 		s_row_begin_[key.first + 1] = index + 1;
@@ -254,7 +288,7 @@ void NormalEquations::build_patterns()
 			pl_term_begin_[list[x]] = static_cast<int>(term_s_offset_.size());
 			for (size_t y = x; y < list.size(); y++)
 				term_s_offset_.push_back(
-					s_offset_[s_index.at({pl_blocks_[list[x]].kept, pl_blocks_[list[y]].kept})]);
+					s_offset_[s_index.find(pl_blocks_[list[x]].kept, pl_blocks_[list[y]].kept)]);
 		}
 	}
 	uniform_kept_ = kept_.empty() ? 0 : kept_[0].tangent;
