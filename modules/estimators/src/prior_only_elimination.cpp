@@ -267,12 +267,6 @@ MarginalizationResult marginalize_leading(const Eigen::MatrixXd& H, const Eigen:
 	if (H.cols() != n || b.size() != n || num_keep < 0 || num_keep > n)
 		throw std::invalid_argument("marginalize_leading: H must be n×n, b n, 0 <= num_keep <= n");
 	const int nk = num_keep, nm = n - num_keep;
-	auto fallback = [&]() {
-		std::vector<int> keep(static_cast<std::size_t>(nk)), marg(static_cast<std::size_t>(nm));
-		for (int i = 0; i < nk; i++) keep[static_cast<std::size_t>(i)] = i;
-		for (int i = 0; i < nm; i++) marg[static_cast<std::size_t>(i)] = nk + i;
-		return marginalize(H, b, keep, marg, threshold);
-	};
 	MarginalizationResult out;
 	if (nm > 0)
 	{
@@ -296,10 +290,17 @@ MarginalizationResult marginalize_leading(const Eigen::MatrixXd& H, const Eigen:
 		out.b = b;
 	}
 	out.H = 0.5 * (out.H + out.H.transpose()).eval();
+	// Square root: a blocked Cholesky when H* is well conditioned, else (rank-deficient H*, e.g. anchor
+	// poses of inverse-depth landmarks, doc/window.md) the truncated pivoted LDLᵀ on the same H*.
+	const auto ldlt_form = [&] {
+		square_root_form(out, threshold);
+		return out;
+	};
+	if (nk == 0) return ldlt_form();
 	Eigen::LLT<Eigen::MatrixXd> llt(out.H);
-	if (nk == 0 || llt.info() != Eigen::Success) return fallback();
+	if (llt.info() != Eigen::Success) return ldlt_form();
 	const Eigen::VectorXd piv = llt.matrixLLT().diagonal().cwiseAbs2();
-	if (!(piv.minCoeff() > threshold * piv.maxCoeff())) return fallback();
+	if (!(piv.minCoeff() > threshold * piv.maxCoeff())) return ldlt_form();
 	// ½‖e + J δ‖² = ½ δᵀ H* δ − b*ᵀ δ + const with J = Lᵀ, Jᵀe = −b*: e = −L⁻¹ b*.
 	out.J = llt.matrixU();
 	out.e = -(llt.matrixL().solve(out.b));

@@ -98,8 +98,8 @@ DenseNormalSystem dense_normal_system(const Problem& problem, const std::vector<
  * e = −L⁻¹ b*) when H* is clearly positive definite (every pivot L_ii² above threshold·max): the same
  * prior as swba::marginalize's pivoted LDLᵀ, faster on the dense priors of a SLAM window (hundreds of
  * unknowns; Eigen's LDLᵀ is unblocked). Otherwise (LLT fails or a pivot is tiny: a rank-deficient H*, e.g.
- * a free gauge; frequent on real windows, see doc/run.md "Where the time goes")
- * it returns swba::marginalize's result. */
+ * a free gauge or the anchor poses of inverse-depth landmarks, see doc/window.md) the square root is
+ * swba::square_root_form's truncated pivoted LDLᵀ of the same H* (the Schur complement is not redone). */
 MarginalizationResult marginalize_leading(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,
 										  double threshold);
 }  // namespace swba::estimators::detail

@@ -58,31 +58,38 @@ MarginalizationResult marginalize(const Eigen::MatrixXd& H, const Eigen::VectorX
 	}
 	out.H = 0.5 * (out.H + out.H.transpose()).eval();
 
+	square_root_form(out, rel_threshold);
+	return out;
+}
+
+void square_root_form(MarginalizationResult& m, double rel_threshold)
+{
+	const int n = static_cast<int>(m.H.rows());
+	if (m.H.cols() != n || m.b.size() != n) throw std::invalid_argument("square_root_form: H must be n×n and b n");
 	// Square-root form from a pivoted LDLᵀ (H* = Pᵀ L D Lᵀ P): J = √D Lᵀ P, e = −√D⁻¹ L⁻¹ P b*, keeping
 	// the pivots above rel_threshold·max(D). An order of magnitude cheaper than an eigen-decomposition
 	// on the dense landmark priors of a SLAM window, and the same prior where nothing is truncated.
-	Eigen::LDLT<Eigen::MatrixXd> ldlt(out.H);
+	Eigen::LDLT<Eigen::MatrixXd> ldlt(m.H);
 	const Eigen::VectorXd D = ldlt.vectorD();
-	const double dmax = nk ? std::max(D.maxCoeff(), 0.0) : 0.0;
+	const double dmax = n ? std::max(D.maxCoeff(), 0.0) : 0.0;
 	const Eigen::MatrixXd L = ldlt.matrixL();
 	// Rows of Lᵀ P: (Lᵀ P)_i = (Pᵀ L)ᵀ_i.
 	Eigen::MatrixXd PtL = L;
 	PtL = ldlt.transpositionsP().transpose() * PtL;
-	Eigen::VectorXd Pb = ldlt.transpositionsP() * out.b;
+	Eigen::VectorXd Pb = ldlt.transpositionsP() * m.b;
 	const Eigen::VectorXd y = L.triangularView<Eigen::UnitLower>().solve(Pb);
 	std::vector<int> kept;
-	for (int i = 0; i < nk; i++)
+	for (int i = 0; i < n; i++)
 		if (D[i] > rel_threshold * dmax && D[i] > 0) kept.push_back(i);
-	out.rank = static_cast<int>(kept.size());
-	out.J.resize(out.rank, nk);
-	out.e.resize(out.rank);
-	for (int r = 0; r < out.rank; r++)
+	m.rank = static_cast<int>(kept.size());
+	m.J.resize(m.rank, n);
+	m.e.resize(m.rank);
+	for (int r = 0; r < m.rank; r++)
 	{
 		const int i = kept[r];
 		const double s = std::sqrt(D[i]);
-		out.J.row(r) = s * PtL.col(i).transpose();
-		out.e[r] = -y[i] / s;
+		m.J.row(r) = s * PtL.col(i).transpose();
+		m.e[r] = -y[i] / s;
 	}
-	return out;
 }
 }  // namespace swba

@@ -32,6 +32,11 @@ struct MarginalizationResult
 	int rank = 0;       ///< pivots kept
 };
 
+/** Fills m.J, m.e and m.rank from m.H, m.b (already symmetric) by the truncated pivoted LDLᵀ above; for
+ * callers that form the Schur complement themselves (e.g. when a plain Cholesky square root fails on a
+ * rank-deficient H*). */
+void square_root_form(MarginalizationResult& m, double rel_threshold = 1e-12);
+
 /** Eliminates `marg` from (H, b); `keep` and `marg` are disjoint index lists into H (any index not
  * listed is ignored). Throws std::invalid_argument on bad indices or sizes. */
 MarginalizationResult marginalize(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
