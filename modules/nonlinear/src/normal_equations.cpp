@@ -65,11 +65,9 @@ std::set<VariableId> linked_eliminable_variables(const Problem& problem)
 }
 
 NormalEquations::NormalEquations(Problem& problem, bool use_schur, bool sparse, int num_threads,
-								 bool keep_linked)
+								 const std::set<VariableId>& keep)
 	: problem_(problem), use_schur_(use_schur), sparse_(sparse), num_threads_(std::max(1, num_threads))
 {
-	const std::set<VariableId> linked =
-		use_schur_ && keep_linked ? linked_eliminable_variables(problem_) : std::set<VariableId>();
 	// Ordering: kept variables first (by id), then eliminated ones (by id); constants removed.
 	std::map<VariableId, std::pair<int, int>> where;  // id -> (kind, index)
 	for (auto& [id, cv] : problem_.variables())
@@ -82,7 +80,7 @@ NormalEquations::NormalEquations(Problem& problem, bool use_schur, bool sparse, 
 			continue;
 		}
 		const int t = v.manifold->tangent_size();
-		if (use_schur_ && v.group == Group::Eliminable && linked.count(id) == 0)
+		if (use_schur_ && v.group == Group::Eliminable && keep.count(id) == 0)
 		{
 			where[id] = {1, static_cast<int>(elim_.size())};
 			elim_.push_back({id, &v, t, elim_dim_});

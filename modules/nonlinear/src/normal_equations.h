@@ -49,10 +49,12 @@ class NormalEquations
 {
    public:
 	/** Builds the ordering (kept first, then eliminated; constants removed) and all block patterns.
-	 * `use_schur` false puts every non-constant variable in the kept group. `keep_linked` (only with
-	 * `use_schur`): eliminable variables in linked_eliminable_variables() are kept instead of
-	 * eliminated; without it such a factor throws std::invalid_argument. */
-	NormalEquations(Problem& problem, bool use_schur, bool sparse, int num_threads, bool keep_linked = false);
+	 * `use_schur` false puts every non-constant variable in the kept group. `keep` (only with
+	 * `use_schur`): eliminable variables kept instead of eliminated, normally
+	 * linked_eliminable_variables(); a factor that still links two eliminated variables throws
+	 * std::invalid_argument. */
+	NormalEquations(Problem& problem, bool use_schur, bool sparse, int num_threads,
+					const std::set<VariableId>& keep = {});
 
 	int kept_dim() const { return kept_dim_; }
 	int elim_dim() const { return elim_dim_; }

@@ -190,7 +190,7 @@ Summary solve(Problem& problem, const SolverOptions& options)
 		use_schur = has_elim && (full_dim <= options.dense_max_dim || short_tracks(problem, linked));
 		const int dim = use_schur ? reduced_dim : full_dim;
 		ne = std::make_unique<detail::NormalEquations>(problem, use_schur, dim > options.dense_max_dim,
-													   options.num_threads, /*keep_linked=*/true);
+													   options.num_threads, linked);
 		// Dense only pays when the reduced system is small or mostly filled: a pose graph of 744
 		// unknowns with ~5 % block fill factorises ~8× faster with CHOLMOD than with a dense LLT.
 		sparse = !(dim <= kAutoDenseAlwaysDim ||
