@@ -1,0 +1,46 @@
+# Golden-output tests: every subcommand's printed figures on shipped data, compared with the committed
+# references in ref/ at the printed precision (golden.cmake says what is masked). A change that moves
+# a figure updates the reference in the same commit (scripts/update-golden.sh) and says why.
+set(_golden ${CMAKE_CURRENT_LIST_DIR})
+set(_golden_out ${CMAKE_CURRENT_BINARY_DIR}/golden)
+set(_data ${SWBA_DATA_DIR})
+
+# swba_golden(<name> <swba arguments...>): the command runs in its own work directory <work>.
+function(swba_golden name)
+  string(REPLACE ";" "|" _cmd "$<TARGET_FILE:swba>;${ARGN}")
+  string(REPLACE "<work>" "${_golden_out}/${name}" _cmd "${_cmd}")
+  add_test(NAME golden.${name}
+    COMMAND ${CMAKE_COMMAND} "-DCMD=${_cmd}" -DREF=${_golden}/ref/${name}.txt
+            -DACTUAL=${_golden_out}/${name}.actual.txt -DWORK_DIR=${_golden_out}/${name}
+            -P ${_golden}/golden.cmake)
+  set_tests_properties(golden.${name} PROPERTIES LABELS golden)
+endfunction()
+
+# swba run: the default rawlog with every default, and both policies x FEJ on/off.
+swba_golden(run_default run --out <work>/out)
+swba_golden(run_policy_fej run --policy both --fej both --max-steps 150 --out <work>/out)
+# swba bal: the shipped BAL problem (threads do not change the figures).
+swba_golden(bal bal ${_data}/bal/problem-49-7776-pre.txt)
+# swba pgo: a 2D and two 3D pose graphs.
+swba_golden(pgo_2d_intel pgo ${_data}/posegraph/intel.g2o -o <work>/intel.g2o)
+swba_golden(pgo_3d_smallgrid pgo ${_data}/posegraph/smallGrid3D.g2o -o <work>/smallGrid3D.g2o)
+swba_golden(pgo_3d_garage pgo ${_data}/posegraph/parking-garage.g2o -q)
+# swba monoba: the default scene and the prior-weight sweep.
+swba_golden(monoba monoba)
+swba_golden(monoba_sweep monoba --sweep-prior-weights --seeds 3)
+# swba directba: the synthetic room and the shipped image set.
+swba_golden(directba_synthetic directba --synthetic)
+swba_golden(directba_dataset directba ${_data}/directba -q)
+# swba ape / rpe: evo's reference trajectories.
+set(_evo ${_data}/evo_reference)
+swba_golden(ape ape ${_evo}/gt_kf-slam_6D_demo.tum ${_evo}/ekf_kf-slam_6D_demo.tum)
+swba_golden(ape_aligned ape ${_evo}/gt_kf-slam_6D_demo.tum ${_evo}/ekf_kf-slam_6D_demo.tum --align)
+swba_golden(rpe rpe ${_evo}/gt_kf-slam_6D_demo.tum ${_evo}/ekf_kf-slam_6D_demo.tum)
+swba_golden(rpe_delta10 rpe ${_evo}/gt_kf-slam_6D_demo.tum ${_evo}/ekf_kf-slam_6D_demo.tum --delta 10 --all-pairs)
+
+# The comparison itself: a figure moved in the last printed digit must fail the test.
+add_test(NAME golden.self_check_moved_figure
+  COMMAND ${CMAKE_COMMAND} "-DCMD=${CMAKE_COMMAND}|-E|echo|Final cost:  1.000000000002e+00"
+          -DREF=${_golden}/selfcheck/moved_figure.txt -DACTUAL=${_golden_out}/self_check.actual.txt
+          -DWORK_DIR=${_golden_out}/self_check -P ${_golden}/golden.cmake)
+set_tests_properties(golden.self_check_moved_figure PROPERTIES WILL_FAIL TRUE)
