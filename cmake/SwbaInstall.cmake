@@ -1,9 +1,10 @@
-# Installs the exported targets as a CMake package: find_package(swba) -> swba::<module>
-# (core linear nonlinear factors io eval estimators; swba::estimators pulls in all of them).
+# Installs the exported targets as a CMake package: find_package(swba) -> swba::<module> for every
+# module of SWBA_MODULES (swba::apps pulls in all of them).
 include(CMakePackageConfigHelpers)
 include(GNUInstallDirs)
 set(SWBA_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/swba)
 install(EXPORT swbaTargets NAMESPACE swba:: DESTINATION ${SWBA_INSTALL_CMAKEDIR})
+string(REPLACE ";" ", " SWBA_MODULES_TEXT "${SWBA_MODULES}")
 configure_package_config_file(${CMAKE_CURRENT_SOURCE_DIR}/cmake/swbaConfig.cmake.in
   ${CMAKE_CURRENT_BINARY_DIR}/swbaConfig.cmake INSTALL_DESTINATION ${SWBA_INSTALL_CMAKEDIR})
 write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/swbaConfigVersion.cmake

@@ -1,5 +1,5 @@
 // swba ape / swba rpe: absolute and relative pose error of a trajectory against a reference, as evo.
-#include <swba/eval/app.h>
+#include <swba/apps/trajectory_metric.h>
 #include <swba/eval/metrics.h>
 
 #include <cmath>
@@ -10,102 +10,120 @@
 
 namespace swba::app
 {
-/** Shared by `swba ape` and `swba rpe` (cmd_rpe.cpp registers the latter). */
-int run_trajectory_metric_command(bool relative, int argc, char** argv)
+namespace
 {
-	const char* what = relative
-		? "Relative pose error (RPE) of an estimated trajectory against a reference, computed and printed as "
-		  "evo_rpe does (same association, alignment, error definitions, statistics and layout)."
-		: "Absolute pose error (APE) of an estimated trajectory against a reference, computed and printed as "
-		  "evo_ape does (same association, alignment, error definitions, statistics and layout).";
-	TCLAP::CmdLine cmd(what, ' ', "0.1.0");
-	TCLAP::UnlabeledValueArg<std::string> ref_arg("REF", "reference trajectory file (TUM: t x y z qx qy qz qw)", true, "",
-												  "REF");
-	TCLAP::UnlabeledValueArg<std::string> est_arg("EST", "estimated trajectory file (TUM)", true, "", "EST");
+/** The command line shared by `swba ape` and `swba rpe` (RPE adds --delta and --all-pairs). */
+struct MetricCommandLine
+{
+	const bool relative;
+	TCLAP::CmdLine cmd;
+	TCLAP::UnlabeledValueArg<std::string> ref_arg{"REF", "reference trajectory file (TUM: t x y z qx qy qz qw)", true, "",
+												  "REF"};
+	TCLAP::UnlabeledValueArg<std::string> est_arg{"EST", "estimated trajectory file (TUM)", true, "", "EST"};
 	std::vector<std::string> relations = {"trans", "full", "rot", "angle_deg", "angle_rad"};
-	TCLAP::ValuesConstraint<std::string> relation_values(relations);
-	TCLAP::ValueArg<std::string> relation_arg(
+	TCLAP::ValuesConstraint<std::string> relation_values{relations};
+	TCLAP::ValueArg<std::string> relation_arg{
 		"r", "pose-relation",
 		"pose relation measured: trans = translation part (m), full = full transformation ||E - I||_F "
 		"(unit-less), rot = rotation part ||R(E) - I||_F (unit-less), angle_deg / angle_rad = rotation angle "
 		"of E. (Default: trans)",
-		false, "trans", &relation_values);
-	TCLAP::SwitchArg align_arg("a", "align", "align the estimate to the reference with Umeyama's method: SE(3), "
-									 "or Sim(3) together with -s");
-	TCLAP::SwitchArg scale_arg("s", "correct-scale",
-							   "correct the scale (Umeyama Sim(3) scale); alone: scale only, no rotation/translation");
-	TCLAP::SwitchArg origin_arg("", "align-origin",
-								"align the first estimated pose to the first reference pose (after -a/-s if given)");
-	TCLAP::ValueArg<double> max_diff_arg("", "t-max-diff",
+		false, "trans", &relation_values};
+	TCLAP::SwitchArg align_arg{"a", "align", "align the estimate to the reference with Umeyama's method: SE(3), "
+									 "or Sim(3) together with -s"};
+	TCLAP::SwitchArg scale_arg{"s", "correct-scale",
+							   "correct the scale (Umeyama Sim(3) scale); alone: scale only, no rotation/translation"};
+	TCLAP::SwitchArg origin_arg{"", "align-origin",
+								"align the first estimated pose to the first reference pose (after -a/-s if given)"};
+	TCLAP::ValueArg<double> max_diff_arg{"", "t-max-diff",
 										 "largest time difference (s) for associating poses by stamp. (Default: 0.01)",
-										 false, 0.01, "S");
-	TCLAP::ValueArg<double> offset_arg("", "t-offset", "time offset (s) added to the estimate's stamps. (Default: 0)",
-									   false, 0.0, "S");
+										 false, 0.01, "S"};
+	TCLAP::ValueArg<double> offset_arg{"", "t-offset", "time offset (s) added to the estimate's stamps. (Default: 0)",
+									   false, 0.0, "S"};
 	std::vector<std::string> formats = {"tum", "mrpt-gt"};
-	TCLAP::ValuesConstraint<std::string> format_values(formats);
-	TCLAP::ValueArg<std::string> ref_format_arg(
+	TCLAP::ValuesConstraint<std::string> format_values{formats};
+	TCLAP::ValueArg<std::string> ref_format_arg{
 		"", "ref-format",
 		"format of REF: tum, or mrpt-gt = MRPT ground-truth robot path (x y z yaw pitch roll per row, row i at "
 		"t = i). (Default: tum)",
-		false, "tum", &format_values);
-	TCLAP::ValueArg<std::string> save_arg(
+		false, "tum", &format_values};
+	TCLAP::ValueArg<std::string> save_arg{
 		"", "save-results",
 		"write <m>_stats.json, <m>_stats.csv, <m>_errors.csv (per pose), <m>_result.json and <m>_est_aligned.tum "
 		"into DIR (m = ape or rpe; DIR is created)",
-		false, "", "DIR");
-	TCLAP::ValueArg<std::string> plot_arg(
+		false, "", "DIR"};
+	TCLAP::ValueArg<std::string> plot_arg{
 		"", "plot",
 		"write plots into DIR: <m>_trajectories (top view) and <m>_errors (error over time), as .png and .svg "
 		"when gnuplot is on PATH (else a one-line note), plus their .dat/.gp sources",
-		false, "", "DIR");
-	TCLAP::ValueArg<int> delta_arg("", "delta", "RPE: frames between the two poses of a pair. (Default: 1)", false, 1,
-								   "N");
-	TCLAP::SwitchArg all_pairs_arg("", "all-pairs", "RPE: use every pair (i, i+delta), not only consecutive ones");
-	// Positional arguments in their order; TCLAP lists the others in the reverse order of addition.
-	cmd.add(ref_arg);
-	cmd.add(est_arg);
-	cmd.add(plot_arg);
-	cmd.add(save_arg);
-	cmd.add(ref_format_arg);
-	if (relative)
+		false, "", "DIR"};
+	TCLAP::ValueArg<int> delta_arg{"", "delta", "RPE: frames between the two poses of a pair. (Default: 1)", false, 1,
+								   "N"};
+	TCLAP::SwitchArg all_pairs_arg{"", "all-pairs", "RPE: use every pair (i, i+delta), not only consecutive ones"};
+
+	explicit MetricCommandLine(bool is_relative) : relative(is_relative), cmd(description(is_relative), ' ', "0.1.0")
 	{
-		cmd.add(all_pairs_arg);
-		cmd.add(delta_arg);
+		// Positional arguments in their order; TCLAP lists the others in the reverse order of addition.
+		cmd.add(ref_arg);
+		cmd.add(est_arg);
+		cmd.add(plot_arg);
+		cmd.add(save_arg);
+		cmd.add(ref_format_arg);
+		if (relative)
+		{
+			cmd.add(all_pairs_arg);
+			cmd.add(delta_arg);
+		}
+		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&offset_arg, &max_diff_arg, &origin_arg, &scale_arg,
+																&align_arg, &relation_arg})
+			cmd.add(*a);
 	}
-	cmd.add(offset_arg);
-	cmd.add(max_diff_arg);
-	cmd.add(origin_arg);
-	cmd.add(scale_arg);
-	cmd.add(align_arg);
-	cmd.add(relation_arg);
-	if (auto rc = parse_command_line(cmd, argc, argv)) return *rc;
 
-	if (!std::isfinite(max_diff_arg.getValue()) || max_diff_arg.getValue() < 0)
-		throw UsageError("--t-max-diff must be a finite number >= 0");
-	if (!std::isfinite(offset_arg.getValue())) throw UsageError("--t-offset must be finite");
-	if (relative && delta_arg.getValue() < 1) throw UsageError("--delta must be >= 1");
+	static std::string description(bool relative)
+	{
+		return relative
+			? "Relative pose error (RPE) of an estimated trajectory against a reference, computed and printed as "
+			  "evo_rpe does (same association, alignment, error definitions, statistics and layout)."
+			: "Absolute pose error (APE) of an estimated trajectory against a reference, computed and printed as "
+			  "evo_ape does (same association, alignment, error definitions, statistics and layout).";
+	}
 
-	eval::EvaluationCommand c;
-	c.relative = relative;
-	c.ref_path = ref_arg.getValue();
-	c.est_path = est_arg.getValue();
-	c.ref_format = ref_format_arg.getValue();
-	eval::AlignmentOptions alignment;
-	alignment.align = align_arg.getValue();
-	alignment.correct_scale = scale_arg.getValue();
-	alignment.align_origin = origin_arg.getValue();
-	eval::AssociationOptions association;
-	association.t_max_diff = max_diff_arg.getValue();
-	association.t_offset = offset_arg.getValue();
-	const auto relation = eval::parse_pose_relation(relation_arg.getValue());
-	c.ape.relation = c.rpe.relation = relation;
-	c.ape.alignment = c.rpe.alignment = alignment;
-	c.ape.association = c.rpe.association = association;
-	c.rpe.delta = static_cast<std::size_t>(delta_arg.getValue());
-	c.rpe.all_pairs = all_pairs_arg.getValue();
-	c.save_results_dir = save_arg.getValue();
-	c.plot_dir = plot_arg.getValue();
-	eval::run_evaluation(c, std::cout, std::cerr);
+	apps::TrajectoryMetricOptions options()
+	{
+		if (!std::isfinite(max_diff_arg.getValue()) || max_diff_arg.getValue() < 0)
+			throw UsageError("--t-max-diff must be a finite number >= 0");
+		if (!std::isfinite(offset_arg.getValue())) throw UsageError("--t-offset must be finite");
+		if (relative && delta_arg.getValue() < 1) throw UsageError("--delta must be >= 1");
+		apps::TrajectoryMetricOptions c;
+		c.relative = relative;
+		c.ref_path = ref_arg.getValue();
+		c.est_path = est_arg.getValue();
+		c.ref_format = ref_format_arg.getValue();
+		eval::AlignmentOptions alignment;
+		alignment.align = align_arg.getValue();
+		alignment.correct_scale = scale_arg.getValue();
+		alignment.align_origin = origin_arg.getValue();
+		eval::AssociationOptions association;
+		association.t_max_diff = max_diff_arg.getValue();
+		association.t_offset = offset_arg.getValue();
+		const auto relation = eval::parse_pose_relation(relation_arg.getValue());
+		c.ape.relation = c.rpe.relation = relation;
+		c.ape.alignment = c.rpe.alignment = alignment;
+		c.ape.association = c.rpe.association = association;
+		c.rpe.delta = static_cast<std::size_t>(delta_arg.getValue());
+		c.rpe.all_pairs = all_pairs_arg.getValue();
+		c.save_results_dir = save_arg.getValue();
+		c.plot_dir = plot_arg.getValue();
+		return c;
+	}
+};
+}  // namespace
+
+/** Shared by `swba ape` and `swba rpe` (cmd_rpe.cpp registers the latter). */
+int run_trajectory_metric_command(bool relative, int argc, char** argv)
+{
+	MetricCommandLine cl(relative);
+	if (auto rc = parse_command_line(cl.cmd, argc, argv)) return *rc;
+	apps::run_trajectory_metric(cl.options(), std::cout, std::cerr);
 	return 0;
 }
 

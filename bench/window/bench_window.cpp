@@ -4,7 +4,8 @@
 // APE (translation rmse, not aligned) beside each time, where the window's time goes (LM solve vs
 // marginalisation, state size), and the per-step cost along the run (mean ms/step over each tenth).
 // A benchmark, not a test: timings vary ±25 % between runs on shared machines; compare within a run.
-#include <swba/estimators/run_app.h>
+#include <swba/apps/run.h>
+#include <swba/eval/ground_truth.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/system/filesystem.h>
@@ -21,9 +22,9 @@
 
 namespace
 {
-using swba::estimators::RunOptions;
-using swba::estimators::RunReport;
-using swba::estimators::RunRow;
+using swba::apps::RunOptions;
+using swba::apps::RunReport;
+using swba::apps::RunRow;
 
 std::string fmt(const char* f, double v)
 {
@@ -160,11 +161,11 @@ int main(int argc, char** argv)
 		if (!cmd.parse(argc, argv)) return 0;
 
 		RunOptions base;
-		if (!config_arg.getValue().empty()) swba::estimators::load_run_config(config_arg.getValue(), base);
+		if (!config_arg.getValue().empty()) swba::apps::load_run_config(config_arg.getValue(), base);
 		if (keep_prior_only_arg.getValue()) base.window.eliminate_prior_only_landmarks = false;
-		base.windows = swba::estimators::parse_window_list(windows_arg.getValue(), "--windows");
-		base.policies = swba::estimators::parse_policy_list(policy_arg.getValue());
-		base.ekf_methods = swba::estimators::parse_ekf_method_list(ekf_arg.getValue());
+		base.windows = swba::apps::parse_window_list(windows_arg.getValue(), "--windows");
+		base.policies = swba::apps::parse_policy_list(policy_arg.getValue());
+		base.ekf_methods = swba::apps::parse_ekf_method_list(ekf_arg.getValue());
 		base.run_ekf = !no_ekf_arg.getValue();
 		base.run_batch = false;
 		base.plots = false;
@@ -177,9 +178,9 @@ int main(int argc, char** argv)
 			swba::io::RawlogReaderOptions ro;
 			ro.max_steps = steps;
 			const auto log = swba::io::read_rawlog(rawlog, ro);
-			const std::string gt_path = swba::estimators::default_ground_truth_path(rawlog);
+			const std::string gt_path = swba::eval::default_ground_truth_path(rawlog);
 			std::vector<mrpt::poses::CPose3D> gt;
-			if (mrpt::system::fileExists(gt_path)) gt = swba::estimators::read_ground_truth_for(gt_path, log.steps.size());
+			if (mrpt::system::fileExists(gt_path)) gt = swba::eval::read_ground_truth_for(gt_path, log.steps.size());
 			std::cerr << "bench: " << rawlog << ": " << log.steps.size() << " steps\n";
 			RunReport rep;
 			rep.rawlog = log.path;
@@ -190,7 +191,7 @@ int main(int argc, char** argv)
 				if (o.windows.empty() && !o.run_ekf) return;
 				auto part = log;
 				if (n && n < part.steps.size()) part.steps.resize(n);
-				auto r = swba::estimators::run_estimators(o, part, gt, std::cerr);
+				auto r = swba::apps::run_estimators(o, part, gt, std::cerr);
 				for (auto& row : r.rows)
 				{
 					if (part.steps.size() < log.steps.size())

@@ -1,6 +1,6 @@
 #include "OnlineSlamApp.h"
 
-#include <swba/estimators/run_config.h>
+#include <swba/apps/run_options.h>
 #include <swba/eval/trajectory.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
@@ -81,8 +81,8 @@ bool OnlineSlamApp::initialize(int argc, char** argv)
 	max_steps = static_cast<std::size_t>(max_steps_arg.getValue());
 	print_every = static_cast<std::size_t>(print_every_arg.getValue());
 
-	swba::estimators::RunOptions run;  // swba run's options: the same defaults and INI keys
-	if (config_arg.isSet()) swba::estimators::load_run_config(config_arg.getValue(), run);
+	swba::apps::RunOptions run;  // swba run's options: the same defaults and INI keys
+	if (config_arg.isSet()) swba::apps::load_run_config(config_arg.getValue(), run);
 	options = run.window;
 	options.window_size = config_arg.isSet() && !run.windows.empty() ? run.windows.front() : 10;
 	options.solver.num_threads = run.threads;

@@ -1,6 +1,5 @@
 // Text/CSV/JSON reports and headless plots (with and without gnuplot).
 #include <gtest/gtest.h>
-#include <swba/eval/app.h>
 #include <swba/eval/plot.h>
 #include <swba/eval/report.h>
 
@@ -152,18 +151,3 @@ TEST(Plot, RendersPngAndSvgWhenGnuplotIsInstalled)
 	fs::remove_all(dir);
 }
 
-TEST(App, RunEvaluationPrintsTheTextBlockAndSaves)
-{
-	const std::string dir = fresh_dir("app");
-	EvaluationCommand c;
-	c.ref_path = std::string(SWBA_DATA_DIR) + "/evo_reference/gt_kf-slam_6D_demo.tum";
-	c.est_path = std::string(SWBA_DATA_DIR) + "/evo_reference/ekf_kf-slam_6D_demo.tum";
-	c.ape.alignment.align = true;
-	c.save_results_dir = dir;
-	std::ostringstream out, log;
-	const MetricResult r = run_evaluation(c, out, log);
-	EXPECT_EQ(out.str(), format_text_report(r) + "\n");
-	EXPECT_NE(log.str().find("ape_stats.json"), std::string::npos);
-	EXPECT_THROW(read_trajectory(c.ref_path, "kitti"), std::invalid_argument);
-	fs::remove_all(dir);
-}

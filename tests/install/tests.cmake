@@ -19,7 +19,7 @@ set(SWBA_INSTALL_TEST_STEPS 0 CACHE STRING "Steps of install.example_matches_swb
 
 add_test(NAME install.install_package
   COMMAND ${CMAKE_COMMAND} -DBUILD_DIR=${CMAKE_BINARY_DIR} -DPREFIX=${SWBA_INSTALL_TEST_DIR}/prefix
-    -DSANITIZE=${SWBA_SANITIZE} -P ${CMAKE_CURRENT_LIST_DIR}/install_package.cmake)
+    "-DMODULES=${SWBA_MODULES}" -DSANITIZE=${SWBA_SANITIZE} -P ${CMAKE_CURRENT_LIST_DIR}/install_package.cmake)
 set_tests_properties(install.install_package PROPERTIES FIXTURES_SETUP swba_installed TIMEOUT 120)
 
 add_test(NAME install.public_headers

@@ -1,6 +1,7 @@
 // Trajectories and their text formats (TUM, MRPT ground-truth robot paths).
 #include "swba/eval/trajectory.h"
 
+#include <stdexcept>
 #include <mrpt/math/CQuaternion.h>
 
 #include <cerrno>
@@ -190,5 +191,12 @@ Trajectory read_mrpt_ground_truth(const std::string& path)
 {
 	std::ifstream f = open_input(path);
 	return read_mrpt_ground_truth(f, path);
+}
+
+Trajectory read_trajectory(const std::string& path, const std::string& format)
+{
+	if (format == "tum") return read_tum(path);
+	if (format == "mrpt-gt") return read_mrpt_ground_truth(path);
+	throw std::invalid_argument("unknown trajectory format '" + format + "' (valid: tum, mrpt-gt)");
 }
 }  // namespace swba::eval

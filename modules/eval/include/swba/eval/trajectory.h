@@ -69,4 +69,8 @@ void write_tum(std::ostream& out, const Trajectory& trajectory, int decimals = 9
  * wrong column count or a non-numeric / non-finite value. */
 Trajectory read_mrpt_ground_truth(const std::string& path);
 Trajectory read_mrpt_ground_truth(std::istream& in, const std::string& source_name);
+
+/** Reads a trajectory file in `format`: "tum" (read_tum) or "mrpt-gt" (read_mrpt_ground_truth).
+ * Throws std::invalid_argument on an unknown format, TrajectoryFileError on a malformed file. */
+Trajectory read_trajectory(const std::string& path, const std::string& format = "tum");
 }  // namespace swba::eval

@@ -1,21 +1,16 @@
-// The `swba ape` / `swba rpe` commands.
-#include "swba/eval/app.h"
+// swba ape / swba rpe: read both trajectories, compute the metric, print, save, plot.
+#include <swba/apps/trajectory_metric.h>
+#include <swba/eval/report.h>
 
 #include <ostream>
 #include <stdexcept>
 
-#include "swba/eval/report.h"
 
-namespace swba::eval
+namespace swba::apps
 {
-Trajectory read_trajectory(const std::string& path, const std::string& format)
-{
-	if (format == "tum") return read_tum(path);
-	if (format == "mrpt-gt") return read_mrpt_ground_truth(path);
-	throw std::invalid_argument("unknown trajectory format '" + format + "' (valid: tum, mrpt-gt)");
-}
+using namespace eval;
 
-MetricResult run_evaluation(const EvaluationCommand& c, std::ostream& out, std::ostream& log)
+MetricResult run_trajectory_metric(const TrajectoryMetricOptions& c, std::ostream& out, std::ostream& log)
 {
 	const Trajectory ref = read_trajectory(c.ref_path, c.ref_format);
 	const Trajectory est = read_trajectory(c.est_path, c.est_format);
@@ -47,4 +42,4 @@ MetricResult run_evaluation(const EvaluationCommand& c, std::ostream& out, std::
 	}
 	return r;
 }
-}  // namespace swba::eval
+}  // namespace swba::apps

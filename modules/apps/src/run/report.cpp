@@ -1,6 +1,7 @@
 // swba run: the comparison table, ape.txt / ape.csv / summary.json, TUM files and plots.
-#include <swba/estimators/run_app.h>
+#include <swba/apps/run.h>
 #include <swba/eval/evaluation.h>
+#include <swba/eval/ground_truth.h>
 #include <swba/eval/plot.h>
 #include <swba/eval/report.h>
 
@@ -14,7 +15,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace swba::estimators
+namespace swba::apps
 {
 namespace
 {
@@ -183,22 +184,18 @@ std::string format_summary_json(const RunReport& report)
 	return s.str();
 }
 
-void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& gt, RunReport& report,
-					   std::ostream& log)
+namespace
+{
+void write_run_files(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& gt, RunReport& report)
 {
 	const std::string& dir = options.out_dir;
-	std::error_code ec;
-	std::filesystem::create_directories(dir, ec);
-	if (ec || !std::filesystem::is_directory(dir))
-		throw std::runtime_error("cannot create output directory '" + dir + "'" + (ec ? ": " + ec.message() : ""));
 	auto path = [&dir](const std::string& f) { return dir + "/" + f; };
-
 	if (!gt.empty())
 	{
 		// Rows 0..steps: what the estimates are compared with.
 		std::vector<mrpt::poses::CPose3D> used(gt.begin(), gt.begin() + static_cast<std::ptrdiff_t>(
 																			 std::min(gt.size(), report.steps + 1)));
-		eval::write_tum(path("gt.tum"), ground_truth_trajectory(used));
+		eval::write_tum(path("gt.tum"), eval::ground_truth_trajectory(used));
 		report.files.push_back(path("gt.tum"));
 	}
 	for (const auto& r : report.rows)
@@ -212,15 +209,18 @@ void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses:
 	write_text_file(path("summary.json"), format_summary_json(report), report);
 	write_text_file(path("config.ini"),
 					"# swba run: the options of this run (load with --config)\n" + format_run_config(options), report);
+}
 
-	if (!options.plots || gt.empty()) return;
-	eval::PlotOptions po;
-	if (eval::find_gnuplot(po).empty())
-	{
-		report.notes.push_back("gnuplot not found: no plots");
-		return;
-	}
-	// Top view: ground truth, each EKF, the largest window (online, first configuration), batch.
+void add_plot_files(const eval::PlotOutput& o, RunReport& report)
+{
+	for (const auto& f : o.files) report.files.push_back(f);
+	if (!o.note.empty()) report.notes.push_back(o.note);
+}
+
+/** Top view: ground truth, each EKF, the largest window (online, first configuration), batch. */
+void plot_top_view(const std::string& dir, const std::vector<mrpt::poses::CPose3D>& gt, RunReport& report,
+				   const eval::PlotOptions& po)
+{
 	std::vector<eval::LabelledTrajectory> shown;
 	const RunRow* widest = nullptr;
 	for (const auto& r : report.rows)
@@ -229,43 +229,62 @@ void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses:
 	for (const auto& r : report.rows)
 		if (!r.estimate.empty() && (r.name == "ekf" || r.name == "batch" || &r == widest))
 			shown.push_back({r.label, r.estimate});
-	auto add_files = [&](const eval::PlotOutput& o) {
-		for (const auto& f : o.files) report.files.push_back(f);
-		if (!o.note.empty()) report.notes.push_back(o.note);
-	};
-	add_files(eval::plot_trajectories_top_view(dir, "trajectories", {"ground truth", ground_truth_trajectory(gt)},
-											   shown, "trajectories (top view): " + mrpt::system::extractFileName(report.rawlog),
-											   po));
+	add_plot_files(eval::plot_trajectories_top_view(
+					   dir, "trajectories", {"ground truth", eval::ground_truth_trajectory(gt)}, shown,
+					   "trajectories (top view): " + mrpt::system::extractFileName(report.rawlog), po),
+				   report);
+}
 
-	// APE rmse vs W: one series per (policy, FEJ, online/lagged); EKF, batch, causal as reference lines.
+/** APE rmse vs W: one series per (policy, FEJ, online/lagged); EKF, batch, causal as reference lines. */
+void plot_ape_vs_window(const RunOptions& options, RunReport& report, const eval::PlotOptions& po)
+{
 	std::map<std::string, eval::PlotSeries> series;
 	std::vector<std::string> order;
 	std::vector<eval::ReferenceLine> refs;
 	for (const auto& r : report.rows)
 	{
 		if (!r.has_ape) continue;
-		if (r.name == "window")
+		if (r.name != "window")
 		{
-			std::string key = "window " + r.trajectory;
-			if (options.policies.size() * options.fej.size() > 1)
-				key += std::string(" ") + r.policy + " " + (r.fej && *r.fej ? "fej" : "nofej");
-			if (!series.count(key)) order.push_back(key);
-			auto& sr = series[key];
-			sr.label = key;
-			sr.x.push_back(r.window);
-			sr.y.push_back(r.ape_trans.rmse);
-		}
-		else
 			refs.push_back({r.label, r.ape_trans.rmse});
+			continue;
+		}
+		std::string key = "window " + r.trajectory;
+		if (options.policies.size() * options.fej.size() > 1)
+			key += std::string(" ") + r.policy + " " + (r.fej && *r.fej ? "fej" : "nofej");
+		if (!series.count(key)) order.push_back(key);
+		auto& sr = series[key];
+		sr.label = key;
+		sr.x.push_back(r.window);
+		sr.y.push_back(r.ape_trans.rmse);
 	}
-	if (!order.empty())
-	{
-		std::vector<eval::PlotSeries> ordered;
-		for (const auto& k : order) ordered.push_back(series[k]);
-		add_files(eval::plot_rmse_vs_window(dir, "ape_rmse_vs_window", ordered, refs,
-											"APE rmse vs window size: " + mrpt::system::extractFileName(report.rawlog),
-											"APE translation rmse (m)", po));
-	}
-	(void)log;
+	if (order.empty()) return;
+	std::vector<eval::PlotSeries> ordered;
+	for (const auto& k : order) ordered.push_back(series[k]);
+	add_plot_files(eval::plot_rmse_vs_window(options.out_dir, "ape_rmse_vs_window", ordered, refs,
+											 "APE rmse vs window size: " + mrpt::system::extractFileName(report.rawlog),
+											 "APE translation rmse (m)", po),
+				   report);
 }
-}  // namespace swba::estimators
+}  // namespace
+
+void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& gt, RunReport& report)
+{
+	const std::string& dir = options.out_dir;
+	std::error_code ec;
+	std::filesystem::create_directories(dir, ec);
+	if (ec || !std::filesystem::is_directory(dir))
+		throw std::runtime_error("cannot create output directory '" + dir + "'" + (ec ? ": " + ec.message() : ""));
+	write_run_files(options, gt, report);
+
+	if (!options.plots || gt.empty()) return;
+	eval::PlotOptions po;
+	if (eval::find_gnuplot(po).empty())
+	{
+		report.notes.push_back("gnuplot not found: no plots");
+		return;
+	}
+	plot_top_view(dir, gt, report, po);
+	plot_ape_vs_window(options, report, po);
+}
+}  // namespace swba::apps

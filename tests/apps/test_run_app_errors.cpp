@@ -1,6 +1,6 @@
 // swba run on bad input (through run_app, what the command calls): one-line errors naming the file,
 // and single bad readings counted, never a crash.
-#include <swba/estimators/run_app.h>
+#include <swba/apps/run.h>
 
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CActionRobotMovement3D.h>
@@ -19,7 +19,7 @@
 namespace
 {
 namespace fs = std::filesystem;
-using swba::estimators::RunOptions;
+using swba::apps::RunOptions;
 
 fs::path temp_dir()
 {
@@ -88,7 +88,7 @@ std::string run_error(const RunOptions& o)
 	std::ostringstream out, log;
 	try
 	{
-		swba::estimators::run_app(o, out, log);
+		swba::apps::run_app(o, out, log);
 	}
 	catch (const std::exception& e)
 	{
@@ -178,7 +178,7 @@ TEST(RunAppErrors, NanReadingIsCountedAndTheRunCompletes)
 	write_synth(path, so);
 	RunOptions o = quick_options(d, path);  // no ground truth next to it: no APE, still a table
 	std::ostringstream out, log;
-	const auto report = swba::estimators::run_app(o, out, log);
+	const auto report = swba::apps::run_app(o, out, log);
 	EXPECT_EQ(report.steps, 8u);
 	EXPECT_EQ(report.skipped_readings, 1u);
 	EXPECT_NE(log.str().find("warning: "), std::string::npos) << log.str();

@@ -1,4 +1,4 @@
-/** \file run_app.h
+/** \file run.h
  * `swba run`: every estimator on the same rawlog — MRPT's EKF (each method), the sliding window for
  * each W (online and lagged trajectories, each landmark policy and FEJ setting asked for), the batch
  * solution and optionally the full-history causal optimum — then APE against the ground truth, a
@@ -6,12 +6,12 @@
  * plots). An estimator that fails (MRPT's EKF throws on kf-slam_6D_demo_noncentered) becomes a row
  * with the step and the message; it never aborts the run.
  *
- * Pairing with the ground truth (see ../shared/REFERENCE.md and swba/io/rawlog.h): the estimate after
- * step k has time t = k + 1 and is compared with GT row k + 1 (row i = the true pose when SF_i was
- * taken); APE is not aligned. */
+ * Pairing with the ground truth (swba/eval/ground_truth.h): the estimate after step k has time
+ * t = k + 1 and is compared with GT row k + 1 (row i = the true pose when SF_i was taken); APE is
+ * not aligned. */
 #pragma once
 
-#include <swba/estimators/run_config.h>
+#include <swba/apps/run_options.h>
 #include <swba/estimators/sliding_window.h>
 #include <swba/eval/metrics.h>
 #include <swba/eval/trajectory.h>
@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-namespace swba::estimators
+namespace swba::apps
 {
 /** One estimator's result: one row of the comparison table, one entry of summary.json. */
 struct RunRow
@@ -52,7 +52,7 @@ struct RunRow
 	double mean_iterations = 0;  ///< window rows: mean LM iterations per step; batch: iterations
 	/** Window rows: what each process() call did (solve/marginalisation time, state size), for
 	 * benchmarks. Empty for other rows. */
-	std::vector<StepSummary> step_summaries;
+	std::vector<estimators::StepSummary> step_summaries;
 
 	bool failed = false;
 	std::size_t failed_step = 0;  ///< the step k whose processing threw
@@ -69,24 +69,6 @@ struct RunReport
 	std::vector<std::string> files;    ///< files written (full paths), in writing order
 	std::vector<std::string> notes;    ///< one line each (plot notes, reader warnings, …)
 };
-
-/** `<dir>/<name>_ground_truth_robot_path.txt` for `<dir>/<name>.rawlog` (mrpt-common's naming). */
-std::string default_ground_truth_path(const std::string& rawlog_path);
-
-/** Reads the MRPT ground-truth robot path and checks it has at least steps + 1 rows (row k + 1 pairs
- * with the estimate after step k). Throws std::runtime_error naming the file. */
-std::vector<mrpt::poses::CPose3D> read_ground_truth_for(const std::string& path, std::size_t steps);
-
-/** The ground truth as a TUM trajectory: row i at t = i. */
-eval::Trajectory ground_truth_trajectory(const std::vector<mrpt::poses::CPose3D>& rows);
-
-/** The reference paired with `estimate` pose by pose: for the estimate at t = k + 1, GT row k + 1.
- * Throws std::runtime_error when a stamp is not a whole number ≥ 1 or its row does not exist. */
-eval::Trajectory paired_ground_truth(const std::vector<mrpt::poses::CPose3D>& rows, const eval::Trajectory& estimate);
-
-/** APE (not aligned) of `estimate` against the paired ground truth: {translation part, full transformation}. */
-std::pair<eval::Statistics, eval::Statistics> ape_against_ground_truth(
-	const std::vector<mrpt::poses::CPose3D>& rows, const eval::Trajectory& estimate);
 
 /** Runs every estimator the options ask for on `rawlog` (already read) and fills the rows; APE when
  * `ground_truth` is not empty. Progress lines go to `log` (when options.progress). Writes no file. */
@@ -105,10 +87,10 @@ std::string format_summary_json(const RunReport& report);
 /** Writes the output directory (TUM files, ape.txt, ape.csv, summary.json, config.ini, plots) and
  * records the paths in report.files. Throws std::runtime_error naming a path that cannot be written. */
 void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& ground_truth,
-					   RunReport& report, std::ostream& log);
+					   RunReport& report);
 
 /** The whole `swba run`: reads the rawlog (options.rawlog must be set) and the ground truth, runs,
  * prints the table to `out`, writes the files; notes and progress go to `log`. Throws on bad input
  * (one-line messages naming the file/option). */
 RunReport run_app(const RunOptions& options, std::ostream& out, std::ostream& log);
-}  // namespace swba::estimators
+}  // namespace swba::apps

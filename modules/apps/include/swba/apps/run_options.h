@@ -1,5 +1,5 @@
 /** \file run_config.h
- * Options of `swba run` (swba::estimators::RunOptions) and their INI file, in MRPT's
+ * Options of `swba run` (swba::apps::RunOptions) and their INI file, in MRPT's
  * CLoadableOptions style (sections [run], [window], [solver], [ekf], [sensor], [odometry]; read with
  * mrpt::config::CConfigFile) — but, unlike MRPT, an unknown or misspelt section or key is an error
  * that lists the known ones, and a value that does not parse completely is an error naming the key.
@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace swba::estimators
+namespace swba::apps
 {
 /** Everything `swba run` does. Defaults are those of share/config/swba_run.ini. */
 struct RunOptions
@@ -31,7 +31,7 @@ struct RunOptions
 	/** Window sizes W (each ≥ 2). Default {5, 10, 20, 30}. */
 	std::vector<int> windows = {5, 10, 20, 30};
 	/** Landmark policies to run (each gives its own rows). Default {Slam}. */
-	std::vector<LandmarkPolicy> policies = {LandmarkPolicy::Slam};
+	std::vector<estimators::LandmarkPolicy> policies = {estimators::LandmarkPolicy::Slam};
 	/** First-estimate Jacobians on/off (each value gives its own rows). Default {true}. */
 	std::vector<bool> fej = {true};
 	/** Run MRPT's EKF (each method in ekf_methods). Default true. */
@@ -57,7 +57,7 @@ struct RunOptions
 	bool progress = true;
 	/** The window/batch options (window_size and policy/fej are taken from the lists above for each run;
 	 * sensor_std_* ≤ 0 = the observation's own noise, also given to the EKF). */
-	SlidingWindowOptions window;
+	estimators::SlidingWindowOptions window;
 
 	/** Throws std::invalid_argument with a one-line reason naming the option. */
 	void validate() const;
@@ -93,11 +93,11 @@ void load_run_config_text(const std::string& text, const std::string& source_nam
  * non-integer or a window < 2. */
 std::vector<int> parse_window_list(const std::string& text, const std::string& what = "windows");
 /** "slam" | "constant-time" | "both". */
-std::vector<LandmarkPolicy> parse_policy_list(const std::string& text);
+std::vector<estimators::LandmarkPolicy> parse_policy_list(const std::string& text);
 /** "on" | "off" | "both" (also true/false/1/0). */
 std::vector<bool> parse_fej_list(const std::string& text);
-/** "kfEKFNaive,kfEKFAlaDavison" (each checked with ekf_method_from_name; numbers mapped to names). */
+/** "kfEKFNaive,kfEKFAlaDavison" (each checked with estimators::ekf_method_from_name; numbers mapped to names). */
 std::vector<std::string> parse_ekf_method_list(const std::string& text);
 /** Comma-separated items, trimmed; empty items are an error. */
 std::vector<std::string> split_list(const std::string& text, const std::string& what);
-}  // namespace swba::estimators
+}  // namespace swba::apps

@@ -1,5 +1,5 @@
 #include <swba/estimators/ekf_slam.h>
-#include <swba/estimators/run_config.h>
+#include <swba/apps/run_options.h>
 
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
@@ -12,7 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace swba::estimators
+namespace swba::apps
 {
 namespace
 {
@@ -123,7 +123,7 @@ std::string join(const std::vector<std::string>& items, const std::string& sep)
 	return s;
 }
 
-std::string policies_text(const std::vector<LandmarkPolicy>& p)
+std::string policies_text(const std::vector<estimators::LandmarkPolicy>& p)
 {
 	if (p.size() == 2) return "both";
 	return p.empty() ? "" : to_string(p.front());
@@ -196,10 +196,10 @@ const std::vector<RunConfigKey>& run_config_key_table()
 		 [](const S& v, RunOptions& o) { o.fej = parse_fej_list(v); },
 		 [](const RunOptions& o) { return fej_text(o.fej); }},
 		{"window", "landmarks", "inverse-depth|xyz", "landmark parameterisation",
-		 [](const S& v, RunOptions& o) { o.window.landmarks = parse_landmark_parameterization(v); },
+		 [](const S& v, RunOptions& o) { o.window.landmarks = estimators::parse_landmark_parameterization(v); },
 		 [](const RunOptions& o) { return to_string(o.window.landmarks); }},
 		{"window", "gauge", "fixed|free|prior", "gauge: first pose fixed, free, or an SE(3) prior on it",
-		 [](const S& v, RunOptions& o) { o.window.gauge = parse_gauge_mode(v); },
+		 [](const S& v, RunOptions& o) { o.window.gauge = estimators::parse_gauge_mode(v); },
 		 [](const RunOptions& o) { return to_string(o.window.gauge); }},
 		{"window", "gauge_prior_weight", "1/(m^2 or rad^2)", "information of the gauge prior (gauge = prior only)",
 		 [](const S& v, RunOptions& o) { o.window.gauge_prior_weight = parse_positive(v); },
@@ -391,13 +391,13 @@ std::vector<int> parse_window_list(const std::string& text, const std::string& w
 	return w;
 }
 
-std::vector<LandmarkPolicy> parse_policy_list(const std::string& text)
+std::vector<estimators::LandmarkPolicy> parse_policy_list(const std::string& text)
 {
 	const std::string t = trim(text);
-	if (t == "both") return {LandmarkPolicy::Slam, LandmarkPolicy::ConstantTime};
+	if (t == "both") return {estimators::LandmarkPolicy::Slam, estimators::LandmarkPolicy::ConstantTime};
 	try
 	{
-		return {parse_landmark_policy(t)};
+		return {estimators::parse_landmark_policy(t)};
 	}
 	catch (const std::exception&)
 	{
@@ -425,7 +425,7 @@ std::vector<std::string> parse_ekf_method_list(const std::string& text)
 	std::vector<std::string> m;
 	for (const auto& item : split_list(text, "EKF methods"))
 	{
-		const std::string name = names[ekf_method_from_name(item)];
+		const std::string name = names[estimators::ekf_method_from_name(item)];
 		if (std::find(m.begin(), m.end(), name) == m.end()) m.push_back(name);
 	}
 	return m;
@@ -440,12 +440,12 @@ void RunOptions::validate() const
 	if (policies.empty()) throw std::invalid_argument("no landmark policy");
 	if (fej.empty()) throw std::invalid_argument("no FEJ setting");
 	if (run_ekf && ekf_methods.empty()) throw std::invalid_argument("no EKF method");
-	for (const auto& m : ekf_methods) ekf_method_from_name(m);
+	for (const auto& m : ekf_methods) estimators::ekf_method_from_name(m);
 	if (threads < 1) throw std::invalid_argument("threads must be >= 1");
 	if (batch_max_iterations < 1) throw std::invalid_argument("batch_max_iterations must be >= 1");
 	if (out_dir.empty()) throw std::invalid_argument("output directory must not be empty");
-	SlidingWindowOptions w = window;
+	estimators::SlidingWindowOptions w = window;
 	w.window_size = windows.empty() ? 0 : windows.front();
 	w.validate();
 }
-}  // namespace swba::estimators
+}  // namespace swba::apps

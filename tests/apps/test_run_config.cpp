@@ -1,5 +1,5 @@
 // swba run options: INI loading (strict keys, values, comments), list parsing, the default INI file.
-#include <swba/estimators/run_config.h>
+#include <swba/apps/run_options.h>
 
 #include <gtest/gtest.h>
 
@@ -10,9 +10,9 @@
 namespace
 {
 using swba::estimators::LandmarkPolicy;
-using swba::estimators::load_run_config;
-using swba::estimators::load_run_config_text;
-using swba::estimators::RunOptions;
+using swba::apps::load_run_config;
+using swba::apps::load_run_config_text;
+using swba::apps::RunOptions;
 
 const std::string kDefaultIni = std::string(SWBA_SHARE_DIR) + "/config/swba_run.ini";
 
@@ -52,7 +52,7 @@ TEST(RunConfig, NonDefaultIniSetsEveryKey)
 	load_run_config_text(non_default_ini(), "nd.ini", o);
 	const RunOptions d;
 	// Every key's value differs from its default after loading: the table covers every key set above.
-	for (const auto& k : swba::estimators::run_config_key_table())
+	for (const auto& k : swba::apps::run_config_key_table())
 		EXPECT_NE(k.get(o), k.get(d)) << "[" << k.section << "] " << k.key << " not set by the INI";
 	EXPECT_EQ(o.windows, (std::vector<int>{3, 4}));
 	EXPECT_EQ(o.policies.size(), 2u);
@@ -74,7 +74,7 @@ TEST(RunConfig, DefaultIniHoldsTheBuiltInDefaults)
 	RunOptions o;
 	load_run_config_text(non_default_ini(), "nd.ini", o);
 	load_run_config(kDefaultIni, o);
-	EXPECT_EQ(swba::estimators::format_run_config(o), swba::estimators::format_run_config(RunOptions{}));
+	EXPECT_EQ(swba::apps::format_run_config(o), swba::apps::format_run_config(RunOptions{}));
 }
 
 TEST(RunConfig, DefaultIniDocumentsEveryKeyWithItsDefault)
@@ -85,7 +85,7 @@ TEST(RunConfig, DefaultIniDocumentsEveryKeyWithItsDefault)
 	ss << f.rdbuf();
 	const std::string text = ss.str();
 	const RunOptions d;
-	for (const auto& k : swba::estimators::run_config_key_table())
+	for (const auto& k : swba::apps::run_config_key_table())
 	{
 		const std::string line = "\n" + k.key + " =";
 		const auto at = text.find(line);
@@ -100,7 +100,7 @@ TEST(RunConfig, DefaultIniDocumentsEveryKeyWithItsDefault)
 			<< doc;
 	}
 	// The error-message key list states the same defaults.
-	for (const auto& line : swba::estimators::run_config_keys()) EXPECT_NE(line.find("(Default="), std::string::npos);
+	for (const auto& line : swba::apps::run_config_keys()) EXPECT_NE(line.find("(Default="), std::string::npos);
 }
 
 TEST(RunConfig, UnknownKeyIsAnErrorListingTheKnownKeys)
@@ -173,6 +173,7 @@ TEST(RunConfig, MissingFileIsAnError)
 TEST(RunConfig, ListParsing)
 {
 	using namespace swba::estimators;
+	using namespace swba::apps;
 	EXPECT_EQ(parse_window_list("5,10,20,30"), (std::vector<int>{5, 10, 20, 30}));
 	EXPECT_EQ(parse_window_list(" 7 , 7,3"), (std::vector<int>{7, 3}));  // duplicates dropped
 	EXPECT_THROW(parse_window_list("5,,10"), std::invalid_argument);
@@ -222,10 +223,10 @@ TEST(RunConfig, WrittenConfigReadsBackToTheSameOptions)
 	RunOptions o;
 	load_run_config_text(non_default_ini(), "nd.ini", o);
 	o.ground_truth = "";  // an empty value written as "key = "
-	const std::string text = swba::estimators::format_run_config(o);
+	const std::string text = swba::apps::format_run_config(o);
 	RunOptions back;
 	load_run_config_text(text, "written.ini", back);
-	EXPECT_EQ(swba::estimators::format_run_config(back), text);
+	EXPECT_EQ(swba::apps::format_run_config(back), text);
 	EXPECT_EQ(back.windows, o.windows);
 	EXPECT_EQ(back.window.sensor_std_yaw, o.window.sensor_std_yaw);
 }

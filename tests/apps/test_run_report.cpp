@@ -1,5 +1,6 @@
 // swba run reports: APE pairing with the ground truth, summary.json shape, table, CSV, GT checks.
-#include <swba/estimators/run_app.h>
+#include <swba/apps/run.h>
+#include <swba/eval/ground_truth.h>
 
 #include <gtest/gtest.h>
 
@@ -15,8 +16,8 @@ namespace
 {
 namespace fs = std::filesystem;
 using mrpt::poses::CPose3D;
-using swba::estimators::RunReport;
-using swba::estimators::RunRow;
+using swba::apps::RunReport;
+using swba::apps::RunRow;
 
 fs::path temp_dir()
 {
@@ -210,7 +211,7 @@ RunReport sample_report()
 		r.trajectory = traj;
 		for (std::size_t k = 0; k < 11; k++)
 			r.estimate.push_back(double(k + 1), gt[k + 1] + CPose3D(noise * double(k % 3), 0, 0, 0, 0, 0));
-		const auto [t, f] = swba::estimators::ape_against_ground_truth(gt, r.estimate);
+		const auto [t, f] = swba::eval::ape_against_ground_truth(gt, r.estimate);
 		r.ape_trans = t;
 		r.ape_full = f;
 		r.has_ape = true;
@@ -251,11 +252,11 @@ TEST(RunApe, EstimateAfterStepKPairsWithGroundTruthRowKPlus1)
 		right.push_back(double(k + 1), gt[k + 1]);
 		shifted.push_back(double(k + 1), gt[k]);  // the off-by-one mistake
 	}
-	const auto [t_right, f_right] = swba::estimators::ape_against_ground_truth(gt, right);
+	const auto [t_right, f_right] = swba::eval::ape_against_ground_truth(gt, right);
 	EXPECT_EQ(t_right.count, 49u);
 	EXPECT_LT(t_right.rmse, 1e-12);
 	EXPECT_LT(f_right.rmse, 1e-12);
-	const auto [t_shift, f_shift] = swba::estimators::ape_against_ground_truth(gt, shifted);
+	const auto [t_shift, f_shift] = swba::eval::ape_against_ground_truth(gt, shifted);
 	// Each error is the distance between consecutive GT positions (≥ ~0.3 m here).
 	double sse = 0;
 	for (std::size_t k = 0; k + 1 < gt.size(); k++)
@@ -269,7 +270,7 @@ TEST(RunApe, EstimateAfterStepKPairsWithGroundTruthRowKPlus1)
 	// A known offset of the estimate after step 9 only: the 10th error is exactly that offset.
 	auto offset = right;
 	offset.poses[9] = offset.poses[9] + CPose3D(0, 0.25, 0, 0, 0, 0);
-	const auto [t_off, f_off] = swba::estimators::ape_against_ground_truth(gt, offset);
+	const auto [t_off, f_off] = swba::eval::ape_against_ground_truth(gt, offset);
 	EXPECT_NEAR(t_off.max, 0.25, 1e-12);
 	EXPECT_NEAR(t_off.sse, 0.0625, 1e-12);
 	EXPECT_NEAR(f_off.max, 0.25, 1e-12);  // ‖E − I‖_F of a pure translation
@@ -280,22 +281,22 @@ TEST(RunApe, PairingChecksStampsAndRows)
 	const auto gt = random_path(5, 2);
 	swba::eval::Trajectory est;
 	est.push_back(4.0, gt[4]);
-	EXPECT_EQ(swba::estimators::paired_ground_truth(gt, est).poses[0].translation(), gt[4].translation());
+	EXPECT_EQ(swba::eval::paired_ground_truth(gt, est).poses[0].translation(), gt[4].translation());
 	est.push_back(5.0, gt[4]);	// row 5 does not exist
-	EXPECT_THROW(swba::estimators::paired_ground_truth(gt, est), std::runtime_error);
+	EXPECT_THROW(swba::eval::paired_ground_truth(gt, est), std::runtime_error);
 	swba::eval::Trajectory frac;
 	frac.push_back(1.5, gt[1]);
-	EXPECT_THROW(swba::estimators::paired_ground_truth(gt, frac), std::runtime_error);
+	EXPECT_THROW(swba::eval::paired_ground_truth(gt, frac), std::runtime_error);
 	swba::eval::Trajectory zero;
 	zero.push_back(0.0, gt[0]);	 // t = 0 is the start, not the estimate after a step
-	EXPECT_THROW(swba::estimators::paired_ground_truth(gt, zero), std::runtime_error);
+	EXPECT_THROW(swba::eval::paired_ground_truth(gt, zero), std::runtime_error);
 }
 
 TEST(RunApe, DefaultGroundTruthPathFollowsMrptNaming)
 {
-	EXPECT_EQ(swba::estimators::default_ground_truth_path("/a/b/kf-slam_6D_demo.rawlog"),
+	EXPECT_EQ(swba::eval::default_ground_truth_path("/a/b/kf-slam_6D_demo.rawlog"),
 			  "/a/b/kf-slam_6D_demo_ground_truth_robot_path.txt");
-	EXPECT_EQ(swba::estimators::default_ground_truth_path("x.rawlog.gz"), "x_ground_truth_robot_path.txt");
+	EXPECT_EQ(swba::eval::default_ground_truth_path("x.rawlog.gz"), "x_ground_truth_robot_path.txt");
 }
 
 TEST(RunGroundTruth, TooShortOrWrongColumnsAreErrorsNamingTheFile)
@@ -307,10 +308,10 @@ TEST(RunGroundTruth, TooShortOrWrongColumnsAreErrorsNamingTheFile)
 		f << "% x y z yaw pitch roll\n";
 		for (int i = 0; i < 10; i++) f << i << " 0 0 0 0 0\n";
 	}
-	EXPECT_EQ(swba::estimators::read_ground_truth_for(short_gt, 9).size(), 10u);  // exactly steps + 1 rows
+	EXPECT_EQ(swba::eval::read_ground_truth_for(short_gt, 9).size(), 10u);  // exactly steps + 1 rows
 	try
 	{
-		swba::estimators::read_ground_truth_for(short_gt, 10);
+		swba::eval::read_ground_truth_for(short_gt, 10);
 		FAIL() << "no error";
 	}
 	catch (const std::runtime_error& e)
@@ -326,7 +327,7 @@ TEST(RunGroundTruth, TooShortOrWrongColumnsAreErrorsNamingTheFile)
 	}
 	try
 	{
-		swba::estimators::read_ground_truth_for(five, 1);
+		swba::eval::read_ground_truth_for(five, 1);
 		FAIL() << "no error";
 	}
 	catch (const std::runtime_error& e)
@@ -340,7 +341,7 @@ TEST(RunGroundTruth, TooShortOrWrongColumnsAreErrorsNamingTheFile)
 TEST(RunSummaryJson, ShapeOfTheIssueExample)
 {
 	const RunReport rep = sample_report();
-	const Json j = parse_json(swba::estimators::format_summary_json(rep));
+	const Json j = parse_json(swba::apps::format_summary_json(rep));
 	ASSERT_EQ(j.type, Json::Object);
 	EXPECT_EQ(j["rawlog"].str, rep.rawlog);
 	EXPECT_EQ(j["steps"].num, 11.0);
@@ -394,7 +395,7 @@ TEST(RunSummaryJson, ShapeOfTheIssueExample)
 TEST(RunTable, OneRowPerEstimatorWithFailures)
 {
 	const RunReport rep = sample_report();
-	const std::string table = swba::estimators::format_comparison_table(rep);
+	const std::string table = swba::apps::format_comparison_table(rep);
 	std::vector<std::string> lines;
 	std::string line;
 	std::istringstream in(table);
@@ -415,7 +416,7 @@ TEST(RunTable, OneRowPerEstimatorWithFailures)
 TEST(RunApeText, EvoBlocksPerEstimator)
 {
 	const RunReport rep = sample_report();
-	const std::string text = swba::estimators::format_ape_text(rep);
+	const std::string text = swba::apps::format_ape_text(rep);
 	std::size_t trans = 0, full = 0;
 	for (std::size_t p = 0; (p = text.find("APE w.r.t. translation part (m)\n(not aligned)\n\n       max\t", p)) !=
 							std::string::npos;
@@ -433,7 +434,7 @@ TEST(RunApeText, EvoBlocksPerEstimator)
 TEST(RunApeCsv, HeaderAndRows)
 {
 	const RunReport rep = sample_report();
-	const std::string csv = swba::estimators::format_ape_csv(rep);
+	const std::string csv = swba::apps::format_ape_csv(rep);
 	std::istringstream in(csv);
 	std::string header;
 	std::getline(in, header);

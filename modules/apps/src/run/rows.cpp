@@ -1,0 +1,251 @@
+// swba run: the EKF, window, batch and causal rows.
+#include "rows.h"
+
+#include "progress.h"
+
+#include <swba/estimators/ekf_slam.h>
+#include <swba/estimators/sliding_window.h>
+#include <swba/eval/ground_truth.h>
+
+#include <optional>
+#include <stdexcept>
+
+namespace swba::apps
+{
+namespace
+{
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+/** The estimates after the steps (t ≥ 1): a trajectory that also holds the start pose (t = 0, fixed
+ * by the gauge) loses it, so that every estimator is compared over the same poses. */
+eval::Trajectory after_steps(const eval::Trajectory& t)
+{
+	eval::Trajectory out;
+	for (std::size_t i = 0; i < t.size(); i++)
+		if (t.stamps[i] >= 0.5) out.push_back(t.stamps[i], t.poses[i]);
+	return out;
+}
+
+std::string fej_name(bool fej) { return fej ? "fej" : "nofej"; }
+
+/** The EKF's sensor noise: the window's option if set, else the observation's own (given explicitly,
+ * so that an EKF INI's std_sensor_* cannot differ from the window's). */
+void set_ekf_sensor_noise(const RowContext& ctx, estimators::EkfSlamOptions& eo)
+{
+	const io::RawlogStep* with_obs = nullptr;
+	for (const auto& st : ctx.rawlog.steps)
+		if (st.has_observation)
+		{
+			with_obs = &st;
+			break;
+		}
+	auto noise = [&](double option, double observed, double scale, std::optional<double>& dst) {
+		if (option > 0)
+			dst = option * scale;
+		else if (with_obs && observed > 0)
+			dst = observed * scale;
+	};
+	noise(ctx.base.sensor_std_range, with_obs ? with_obs->sensor_std_range : 0, 1.0, eo.std_range_m);
+	noise(ctx.base.sensor_std_yaw, with_obs ? with_obs->sensor_std_yaw : 0, kRadToDeg, eo.std_yaw_deg);
+	noise(ctx.base.sensor_std_pitch, with_obs ? with_obs->sensor_std_pitch : 0, kRadToDeg, eo.std_pitch_deg);
+}
+
+/** A row whose single task (batch, causal) failed at the end of the run. */
+void mark_failed(RunRow& row, std::size_t step, const std::string& why)
+{
+	row.failed = true;
+	row.failed_step = step;
+	row.failure = why;
+}
+
+/** Time and APE of a single-task row. */
+void finish_single_task_row(const RowContext& ctx, RunRow& row, Clock::time_point t0)
+{
+	const std::size_t n = ctx.rawlog.steps.size();
+	row.seconds = seconds_since(t0);
+	row.steps = n;
+	row.ms_per_step = row.seconds * 1e3 / static_cast<double>(n);
+	compute_row_ape(row, ctx.ground_truth);
+}
+}  // namespace
+
+std::string one_line(const std::string& what)
+{
+	std::string s = io::mrpt_exception_summary(what);
+	for (auto& c : s)
+		if (c == '\n' || c == '\r') c = ' ';
+	return s;
+}
+
+void compute_row_ape(RunRow& row, const std::vector<mrpt::poses::CPose3D>& gt)
+{
+	if (gt.empty() || row.failed || row.estimate.empty()) return;
+	const auto [trans, full] = eval::ape_against_ground_truth(gt, row.estimate);
+	row.ape_trans = trans;
+	row.ape_full = full;
+	row.has_ape = true;
+}
+
+RunRow run_ekf_row(const RowContext& ctx, const std::string& method, std::vector<std::string>& notes)
+{
+	RunRow row;
+	row.name = "ekf";
+	row.method = method;
+	row.label = "ekf " + method;
+	row.trajectory = "online";
+	estimators::EkfSlamOptions eo;
+	eo.method = method;
+	eo.ini_file = ctx.options.ekf_ini;
+	set_ekf_sensor_noise(ctx, eo);
+	ProgressLine progress(ctx.log, ctx.options.progress, row.label, ctx.rawlog.steps.size());
+	auto last = Clock::now();
+	eo.progress = [&](std::size_t done, std::size_t) {
+		const auto now = Clock::now();
+		row.step_ms.push_back(std::chrono::duration<double, std::milli>(now - last).count());
+		last = now;
+		progress.update(done);
+	};
+	estimators::EkfSlamResult res;
+	try
+	{
+		res = estimators::run_ekf_slam(ctx.rawlog.steps, eo);
+	}
+	catch (const std::exception& e)
+	{
+		throw std::runtime_error("EKF " + method + ": " + one_line(e.what()));
+	}
+	progress.finish();
+	for (std::size_t i = 0; i < res.poses.size(); i++) row.estimate.push_back(res.times[i], res.poses[i]);
+	row.seconds = res.seconds;
+	row.steps = res.steps_processed;
+	row.ms_per_step = res.ms_per_step;
+	if (res.failed) mark_failed(row, res.failed_step, res.failure);
+	if (!res.notes.empty()) notes.push_back(row.label + ": " + res.notes);
+	if (res.mrpt_warnings)
+		notes.push_back(row.label + ": " + std::to_string(res.mrpt_warnings) + " MRPT warnings, first: " +
+						one_line(res.first_mrpt_warning));
+	compute_row_ape(row, ctx.ground_truth);
+	return row;
+}
+
+namespace
+{
+/** The online row of a window run, named after W (and policy/FEJ when several are run). */
+RunRow window_row(const estimators::SlidingWindowOptions& wo, bool combos)
+{
+	RunRow online;
+	online.name = "window";
+	online.window = wo.window_size;
+	online.policy = to_string(wo.policy);
+	online.fej = wo.first_estimate_jacobians;
+	online.trajectory = "online";
+	const std::string W = std::to_string(wo.window_size);
+	const std::string fej = fej_name(wo.first_estimate_jacobians);
+	const std::string suffix = combos ? " " + online.policy + " " + fej : "";
+	const std::string file_suffix = combos ? "_" + online.policy + "_" + fej : "";
+	online.label = "window W=" + W + suffix;
+	online.file = "window_" + W + file_suffix + ".tum";
+	return online;
+}
+}  // namespace
+
+std::pair<RunRow, RunRow> run_window_rows(const RowContext& ctx, const estimators::SlidingWindowOptions& wo,
+										  bool combos)
+{
+	RunRow online = window_row(wo, combos);
+	RunRow lagged = online;
+	lagged.trajectory = "lagged";
+	lagged.label = online.label + " lagged";
+	lagged.file = online.file.substr(0, online.file.size() - 4) + "_lagged.tum";
+
+	ProgressLine progress(ctx.log, ctx.options.progress, online.label, ctx.rawlog.steps.size());
+	double total = 0, iterations = 0;
+	std::size_t done = 0;
+	try
+	{
+		estimators::SlidingWindowEstimator est(wo);
+		for (const auto& step : ctx.rawlog.steps)
+		{
+			const auto t0 = Clock::now();
+			const estimators::StepSummary& s = est.process(step);
+			const double dt = seconds_since(t0);
+			total += dt;
+			iterations += s.iterations;
+			online.step_ms.push_back(dt * 1e3);
+			progress.update(++done);
+		}
+		const auto t0 = Clock::now();
+		est.finish();
+		total += seconds_since(t0);
+		online.step_summaries = est.step_summaries();
+		online.estimate = after_steps(est.online_trajectory());
+		lagged.estimate = after_steps(est.lagged_trajectory());
+	}
+	catch (const std::exception& e)
+	{
+		for (RunRow* r : {&online, &lagged}) mark_failed(*r, done, one_line(e.what()));
+	}
+	progress.finish();
+	for (RunRow* r : {&online, &lagged})
+	{
+		r->seconds = total;
+		r->steps = done;
+		r->ms_per_step = done ? total * 1e3 / static_cast<double>(done) : 0.0;
+		r->mean_iterations = done ? iterations / static_cast<double>(done) : 0.0;
+		compute_row_ape(*r, ctx.ground_truth);
+	}
+	lagged.step_ms = online.step_ms;
+	return {std::move(online), std::move(lagged)};
+}
+
+RunRow run_batch_row(const RowContext& ctx, const estimators::SlidingWindowOptions& unbounded)
+{
+	const std::size_t n = ctx.rawlog.steps.size();
+	RunRow row;
+	row.name = "batch";
+	row.label = "batch";
+	row.trajectory = "smoothed";
+	row.file = "batch.tum";
+	ProgressLine progress(ctx.log, ctx.options.progress, row.label, n);
+	if (n > 300) progress.announce("solving all " + std::to_string(n) + " steps at once...");
+	const auto t0 = Clock::now();
+	try
+	{
+		estimators::BatchResult b = estimators::run_batch(ctx.rawlog, unbounded, ctx.options.batch_max_iterations);
+		row.estimate = after_steps(b.trajectory);
+		row.mean_iterations = b.summary.iterations;
+		if (!b.summary.is_solution_usable()) mark_failed(row, n, "batch solve failed: " + b.summary.message);
+	}
+	catch (const std::exception& e)
+	{
+		mark_failed(row, n, one_line(e.what()));
+	}
+	progress.finish();
+	finish_single_task_row(ctx, row, t0);
+	return row;
+}
+
+RunRow run_causal_row(const RowContext& ctx, const estimators::SlidingWindowOptions& unbounded)
+{
+	const std::size_t n = ctx.rawlog.steps.size();
+	RunRow row;
+	row.name = "causal";
+	row.label = "causal (online W=inf)";
+	row.trajectory = "online";
+	row.file = "causal.tum";
+	ProgressLine progress(ctx.log, ctx.options.progress, row.label, n);
+	progress.announce("re-solving the whole history after each of " + std::to_string(n) + " steps...");
+	const auto t0 = Clock::now();
+	try
+	{
+		row.estimate = after_steps(estimators::run_full_history_causal(ctx.rawlog, unbounded));
+	}
+	catch (const std::exception& e)
+	{
+		mark_failed(row, n, one_line(e.what()));
+	}
+	progress.finish();
+	finish_single_task_row(ctx, row, t0);
+	return row;
+}
+}  // namespace swba::apps

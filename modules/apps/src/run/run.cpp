@@ -1,0 +1,122 @@
+// swba run: read the rawlog and ground truth, run every estimator asked for, report.
+#include "rows.h"
+
+#include <swba/apps/run.h>
+#include <swba/eval/ground_truth.h>
+
+#include <mrpt/system/filesystem.h>
+
+#include <ostream>
+#include <stdexcept>
+
+namespace swba::apps
+{
+namespace
+{
+RunReport empty_report(const io::Rawlog& rawlog)
+{
+	RunReport report;
+	report.rawlog = rawlog.path;
+	report.steps = rawlog.steps.size();
+	report.distinct_landmarks = rawlog.distinct_landmarks;
+	report.readings = rawlog.readings;
+	report.skipped_readings = rawlog.skipped_readings;
+	if (report.steps == 0) throw std::runtime_error("rawlog '" + rawlog.path + "': no steps");
+	return report;
+}
+
+/** The window for each policy × FEJ × W: online and lagged rows. */
+void add_window_rows(const RowContext& ctx, RunReport& report)
+{
+	const RunOptions& options = ctx.options;
+	const bool combos = options.policies.size() * options.fej.size() > 1;
+	for (const auto policy : options.policies)
+		for (const bool fej : options.fej)
+			for (const int W : options.windows)
+			{
+				estimators::SlidingWindowOptions wo = ctx.base;
+				wo.window_size = W;
+				wo.policy = policy;
+				wo.first_estimate_jacobians = fej;
+				auto [online, lagged] = run_window_rows(ctx, wo, combos);
+				report.rows.push_back(std::move(online));
+				report.rows.push_back(std::move(lagged));
+			}
+}
+
+/** EKF file names: ekf.tum for one method, ekf_<method>.tum for several. */
+void name_ekf_files(RunReport& report)
+{
+	std::size_t ekf_rows = 0;
+	for (const auto& r : report.rows) ekf_rows += r.name == "ekf";
+	for (auto& r : report.rows)
+		if (r.name == "ekf") r.file = ekf_rows == 1 ? "ekf.tum" : "ekf_" + r.method + ".tum";
+}
+
+void print_inputs(const RunOptions& options, const io::Rawlog& rawlog, const std::string& gt_path, std::ostream& log)
+{
+	log << "swba run: " << rawlog.path << ": " << rawlog.steps.size() << " steps, " << rawlog.distinct_landmarks
+		<< " landmarks, " << rawlog.readings << " readings";
+	if (rawlog.skipped_readings) log << " (" << rawlog.skipped_readings << " invalid readings skipped)";
+	log << "\n";
+	if (gt_path.empty())
+		log << "swba run: no ground truth (" << eval::default_ground_truth_path(options.rawlog)
+			<< " not found; give --gt FILE): no APE\n";
+	else
+		log << "swba run: ground truth " << gt_path << "\n";
+	for (const auto& w : rawlog.warnings) log << "warning: " << w << "\n";
+	if (rawlog.warning_count > rawlog.warnings.size())
+		log << "warning: ... " << (rawlog.warning_count - rawlog.warnings.size()) << " more warnings\n";
+}
+}  // namespace
+
+RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
+						 const std::vector<mrpt::poses::CPose3D>& gt, std::ostream& log)
+{
+	options.validate();
+	RunReport report = empty_report(rawlog);
+	RowContext ctx{options, rawlog, gt, log, options.window};
+	ctx.base.solver.num_threads = options.threads;
+
+	if (options.run_ekf)
+		for (const auto& method : options.ekf_methods) report.rows.push_back(run_ekf_row(ctx, method, report.notes));
+	add_window_rows(ctx, report);
+
+	estimators::SlidingWindowOptions unbounded = ctx.base;
+	unbounded.window_size = 0;
+	unbounded.policy = options.policies.front();
+	unbounded.first_estimate_jacobians = options.fej.front();
+	if (options.run_batch) report.rows.push_back(run_batch_row(ctx, unbounded));
+	if (options.run_causal) report.rows.push_back(run_causal_row(ctx, unbounded));
+	name_ekf_files(report);
+	return report;
+}
+
+RunReport run_app(const RunOptions& options, std::ostream& out, std::ostream& log)
+{
+	if (options.rawlog.empty()) throw std::invalid_argument("no rawlog given");
+	options.validate();
+
+	io::RawlogReaderOptions ro;
+	ro.max_steps = options.max_steps;
+	const io::Rawlog rawlog = io::read_rawlog(options.rawlog, ro);
+
+	std::string gt_path = options.ground_truth;
+	if (gt_path.empty())
+	{
+		const std::string guess = eval::default_ground_truth_path(options.rawlog);
+		if (mrpt::system::fileExists(guess)) gt_path = guess;
+	}
+	std::vector<mrpt::poses::CPose3D> gt;
+	if (!gt_path.empty()) gt = eval::read_ground_truth_for(gt_path, rawlog.steps.size());
+	print_inputs(options, rawlog, gt_path, log);
+
+	RunReport report = run_estimators(options, rawlog, gt, log);
+	report.ground_truth = gt_path;
+	write_run_outputs(options, gt, report);
+	out << format_comparison_table(report) << std::flush;
+	for (const auto& note : report.notes) log << "note: " << note << "\n";
+	log << "swba run: wrote " << report.files.size() << " files into " << options.out_dir << "/\n";
+	return report;
+}
+}  // namespace swba::apps

@@ -1,0 +1,70 @@
+// Pairing of estimates with MRPT's ground-truth robot path (see ground_truth.h).
+#include <swba/eval/evaluation.h>
+#include <swba/eval/ground_truth.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace swba::eval
+{
+std::string default_ground_truth_path(const std::string& rawlog_path)
+{
+	std::string base = rawlog_path;
+	for (const char* ext : {".rawlog.gz", ".rawlog"})
+	{
+		const std::string e = ext;
+		if (base.size() > e.size() && base.compare(base.size() - e.size(), e.size(), e) == 0)
+		{
+			base.resize(base.size() - e.size());
+			break;
+		}
+	}
+	return base + "_ground_truth_robot_path.txt";
+}
+
+std::vector<mrpt::poses::CPose3D> read_ground_truth_for(const std::string& path, std::size_t steps)
+{
+	const std::vector<mrpt::poses::CPose3D> rows = read_mrpt_ground_truth(path).poses;
+	if (rows.size() < steps + 1)
+		throw std::runtime_error("ground truth '" + path + "': " + std::to_string(rows.size()) +
+								 " rows, but the rawlog has " + std::to_string(steps) + " steps and needs " +
+								 std::to_string(steps + 1) +
+								 " rows (row i = true pose at SF_i; the estimate after step k pairs with row k+1)");
+	return rows;
+}
+
+Trajectory ground_truth_trajectory(const std::vector<mrpt::poses::CPose3D>& rows)
+{
+	Trajectory t;
+	for (std::size_t i = 0; i < rows.size(); i++) t.push_back(static_cast<double>(i), rows[i]);
+	return t;
+}
+
+Trajectory paired_ground_truth(const std::vector<mrpt::poses::CPose3D>& rows, const Trajectory& estimate)
+{
+	Trajectory ref;
+	for (std::size_t i = 0; i < estimate.size(); i++)
+	{
+		const double t = estimate.stamps[i];
+		const double r = std::round(t);
+		if (!(std::abs(t - r) < 1e-9) || r < 1)
+			throw std::runtime_error("estimate pose " + std::to_string(i) + " has time " + std::to_string(t) +
+									 ", not a step time k + 1 >= 1");
+		const auto row = static_cast<std::size_t>(r);
+		if (row >= rows.size())
+			throw std::runtime_error("estimate at t = " + std::to_string(row) + " has no ground-truth row " +
+									 std::to_string(row) + " (" + std::to_string(rows.size()) + " rows)");
+		ref.push_back(t, rows[row]);
+	}
+	return ref;
+}
+
+std::pair<Statistics, Statistics> ape_against_ground_truth(
+	const std::vector<mrpt::poses::CPose3D>& rows, const Trajectory& estimate)
+{
+	const auto ref = paired_ground_truth(rows, estimate);
+	std::vector<double> trans = ape_errors(ref, estimate, PoseRelation::TranslationPart);
+	std::vector<double> full = ape_errors(ref, estimate, PoseRelation::FullTransformation);
+	return {compute_statistics(trans), compute_statistics(full)};
+}
+}  // namespace swba::eval
