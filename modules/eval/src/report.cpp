@@ -1,5 +1,6 @@
 // Text / CSV / JSON reports of evaluation results.
 #include "swba/eval/report.h"
+#include "swba/eval/text_format.h"
 
 #include <cctype>
 #include <cmath>
@@ -69,6 +70,9 @@ std::string statistics_json(const Statistics& stats)
 
 namespace
 {
+/** Round-trip precision for machine-read files. */
+std::string num(double v) { return format_significant(v, 17); }
+
 std::ofstream open_for_writing(const std::string& path)
 {
 	std::ofstream f(path);
@@ -82,20 +86,7 @@ void finish(std::ofstream& f, const std::string& path)
 	if (!f) throw std::runtime_error("error while writing '" + path + "'");
 }
 
-std::string csv_field(const std::string& s)
-{
-	if (s.find_first_of(",\"\n") == std::string::npos) return s;
-	std::string out = "\"";
-	for (char c : s) out += (c == '"') ? std::string("\"\"") : std::string(1, c);
-	return out + "\"";
-}
 
-std::string num(double v)
-{
-	char buf[40];
-	std::snprintf(buf, sizeof(buf), "%.17g", v);
-	return buf;
-}
 
 template <class Vec>
 std::string json_array(const Vec& v)

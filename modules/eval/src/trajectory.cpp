@@ -1,5 +1,6 @@
 // Trajectories and their text formats (TUM, MRPT ground-truth robot paths).
 #include "swba/eval/trajectory.h"
+#include "swba/eval/text_format.h"
 
 #include <stdexcept>
 #include <mrpt/math/CQuaternion.h>
@@ -99,12 +100,6 @@ std::ifstream open_input(const std::string& path)
 	return f;
 }
 
-std::string fmt_g(double v)
-{
-	char buf[64];
-	std::snprintf(buf, sizeof(buf), "%.10g", v);
-	return buf;
-}
 }  // namespace
 
 Trajectory read_tum(std::istream& in, const std::string& source, const TumReadOptions& options)
@@ -120,16 +115,16 @@ Trajectory read_tum(std::istream& in, const std::string& source, const TumReadOp
 		const auto v = parse_row(line, names, source, line_no, "t x y z qx qy qz qw");
 		if (!traj.empty() && v[0] < traj.stamps.back())
 			throw TrajectoryFileError(source, line_no,
-									  "time stamp " + fmt_g(v[0]) + " is before the previous one (" +
-										  fmt_g(traj.stamps.back()) + " on line " + std::to_string(prev_line) +
+									  "time stamp " + format_significant(v[0], 10) + " is before the previous one (" +
+										  format_significant(traj.stamps.back(), 10) + " on line " + std::to_string(prev_line) +
 										  "): stamps must not decrease");
 		const double qx = v[4], qy = v[5], qz = v[6], qw = v[7];
 		const double norm = std::sqrt(qx * qx + qy * qy + qz * qz + qw * qw);
 		if (norm == 0.0) throw TrajectoryFileError(source, line_no, "zero quaternion (qx qy qz qw all 0)");
 		if (std::abs(norm - 1.0) > options.quaternion_norm_tolerance)
 			throw TrajectoryFileError(source, line_no,
-									  "quaternion is not unit: norm " + fmt_g(norm) + " (tolerance " +
-										  fmt_g(options.quaternion_norm_tolerance) + ")");
+									  "quaternion is not unit: norm " + format_significant(norm, 10) + " (tolerance " +
+										  format_significant(options.quaternion_norm_tolerance, 10) + ")");
 		const mrpt::math::CQuaternionDouble q(qw / norm, qx / norm, qy / norm, qz / norm);
 		traj.push_back(v[0], mrpt::poses::CPose3D(q, v[1], v[2], v[3]));
 		prev_line = line_no;

@@ -4,6 +4,7 @@
 #include <swba/eval/ground_truth.h>
 #include <swba/eval/plot.h>
 #include <swba/eval/report.h>
+#include <swba/eval/text_format.h>
 
 #include <mrpt/system/filesystem.h>
 
@@ -28,14 +29,6 @@ std::string fixed(double v, int decimals)
 
 std::string pad_right(const std::string& s, std::size_t w) { return s.size() >= w ? s : s + std::string(w - s.size(), ' '); }
 std::string pad_left(const std::string& s, std::size_t w) { return s.size() >= w ? s : std::string(w - s.size(), ' ') + s; }
-
-std::string csv_field(const std::string& s)
-{
-	if (s.find_first_of(",\"\n") == std::string::npos) return s;
-	std::string q = "\"";
-	for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-	return q + "\"";
-}
 
 /** The seven statistics in the issue's order. */
 const std::vector<std::pair<const char*, double eval::Statistics::*>>& stat_fields()
@@ -138,7 +131,7 @@ std::string format_ape_csv(const RunReport& report)
 	};
 	for (const auto& r : report.rows)
 	{
-		s << csv_field(r.label) << "," << r.name << "," << (r.window ? std::to_string(r.window) : "") << ","
+		s << eval::csv_field(r.label) << "," << r.name << "," << (r.window ? std::to_string(r.window) : "") << ","
 		  << r.trajectory << "," << r.policy << "," << (r.fej ? (*r.fej ? "on" : "off") : "") << "," << r.method << ","
 		  << (r.failed ? "true" : "false") << "," << (r.failed ? std::to_string(r.failed_step) : "") << ","
 		  << r.estimate.size();

@@ -58,15 +58,6 @@ void mark_failed(RunRow& row, std::size_t step, const std::string& why)
 	row.failure = why;
 }
 
-/** Time and APE of a single-task row. */
-void finish_single_task_row(const RowContext& ctx, RunRow& row, Clock::time_point t0)
-{
-	const std::size_t n = ctx.rawlog.steps.size();
-	row.seconds = seconds_since(t0);
-	row.steps = n;
-	row.ms_per_step = row.seconds * 1e3 / static_cast<double>(n);
-	compute_row_ape(row, ctx.ground_truth);
-}
 }  // namespace
 
 std::string one_line(const std::string& what)
@@ -198,54 +189,65 @@ std::pair<RunRow, RunRow> run_window_rows(const RowContext& ctx, const estimator
 	return {std::move(online), std::move(lagged)};
 }
 
-RunRow run_batch_row(const RowContext& ctx, const estimators::SlidingWindowOptions& unbounded)
+namespace
+{
+/** A row computed by one task over all steps (batch, causal): `task` fills the estimate and may mark
+ * the row failed; an exception from it fails the row at the last step. */
+template <class Task>
+RunRow single_task_row(const RowContext& ctx, RunRow row, const std::string& announcement, bool announce, Task task)
 {
 	const std::size_t n = ctx.rawlog.steps.size();
-	RunRow row;
-	row.name = "batch";
-	row.label = "batch";
-	row.trajectory = "smoothed";
-	row.file = "batch.tum";
 	ProgressLine progress(ctx.log, ctx.options.progress, row.label, n);
-	if (n > 300) progress.announce("solving all " + std::to_string(n) + " steps at once...");
+	if (announce) progress.announce(announcement);
 	const auto t0 = Clock::now();
 	try
 	{
-		estimators::BatchResult b = estimators::run_batch(ctx.rawlog, unbounded, ctx.options.batch_max_iterations);
-		row.estimate = after_steps(b.trajectory);
-		row.mean_iterations = b.summary.iterations;
-		if (!b.summary.is_solution_usable()) mark_failed(row, n, "batch solve failed: " + b.summary.message);
+		task(row);
 	}
 	catch (const std::exception& e)
 	{
 		mark_failed(row, n, one_line(e.what()));
 	}
 	progress.finish();
-	finish_single_task_row(ctx, row, t0);
+	row.seconds = seconds_since(t0);
+	row.steps = n;
+	row.ms_per_step = row.seconds * 1e3 / static_cast<double>(n);
+	compute_row_ape(row, ctx.ground_truth);
 	return row;
+}
+
+RunRow named_row(const std::string& name, const std::string& label, const std::string& trajectory)
+{
+	RunRow row;
+	row.name = name;
+	row.label = label;
+	row.trajectory = trajectory;
+	row.file = name + ".tum";
+	return row;
+}
+}  // namespace
+
+RunRow run_batch_row(const RowContext& ctx, const estimators::SlidingWindowOptions& unbounded)
+{
+	const std::size_t n = ctx.rawlog.steps.size();
+	return single_task_row(ctx, named_row("batch", "batch", "smoothed"),
+						   "solving all " + std::to_string(n) + " steps at once...", n > 300, [&](RunRow& row) {
+							   estimators::BatchResult b =
+								   estimators::run_batch(ctx.rawlog, unbounded, ctx.options.batch_max_iterations);
+							   row.estimate = after_steps(b.trajectory);
+							   row.mean_iterations = b.summary.iterations;
+							   if (!b.summary.is_solution_usable())
+								   mark_failed(row, n, "batch solve failed: " + b.summary.message);
+						   });
 }
 
 RunRow run_causal_row(const RowContext& ctx, const estimators::SlidingWindowOptions& unbounded)
 {
 	const std::size_t n = ctx.rawlog.steps.size();
-	RunRow row;
-	row.name = "causal";
-	row.label = "causal (online W=inf)";
-	row.trajectory = "online";
-	row.file = "causal.tum";
-	ProgressLine progress(ctx.log, ctx.options.progress, row.label, n);
-	progress.announce("re-solving the whole history after each of " + std::to_string(n) + " steps...");
-	const auto t0 = Clock::now();
-	try
-	{
-		row.estimate = after_steps(estimators::run_full_history_causal(ctx.rawlog, unbounded));
-	}
-	catch (const std::exception& e)
-	{
-		mark_failed(row, n, one_line(e.what()));
-	}
-	progress.finish();
-	finish_single_task_row(ctx, row, t0);
-	return row;
+	return single_task_row(ctx, named_row("causal", "causal (online W=inf)", "online"),
+						   "re-solving the whole history after each of " + std::to_string(n) + " steps...", true,
+						   [&](RunRow& row) {
+							   row.estimate = after_steps(estimators::run_full_history_causal(ctx.rawlog, unbounded));
+						   });
 }
 }  // namespace swba::apps

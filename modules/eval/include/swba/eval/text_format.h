@@ -1,0 +1,13 @@
+/** \file text_format.h
+ * Number and field formatting shared by the text, CSV, JSON, TUM and gnuplot writers. */
+#pragma once
+
+#include <string>
+
+namespace swba::eval
+{
+/** `v` with `digits` significant digits in printf's %g style (17 round-trips a double exactly). */
+std::string format_significant(double v, int digits);
+/** A CSV field: quoted (with doubled quotes) when it holds a comma, a quote or a newline. */
+std::string csv_field(const std::string& s);
+}  // namespace swba::eval
