@@ -97,7 +97,7 @@ struct MetricCommandLine
 		c.relative = relative;
 		c.ref_path = ref_arg.getValue();
 		c.est_path = est_arg.getValue();
-		c.ref_format = ref_format_arg.getValue();
+		c.ref_format = parse_enum<eval::TrajectoryFormat>(ref_format_arg.getValue(), "trajectory format");
 		eval::AlignmentOptions alignment;
 		alignment.align = align_arg.getValue();
 		alignment.correct_scale = scale_arg.getValue();

@@ -9,29 +9,9 @@
 
 namespace swba::eval
 {
-PoseRelation parse_pose_relation(const std::string& name)
-{
-	if (name == "trans" || name == "trans_part") return PoseRelation::TranslationPart;
-	if (name == "full") return PoseRelation::FullTransformation;
-	if (name == "rot" || name == "rot_part") return PoseRelation::RotationPart;
-	if (name == "angle_deg") return PoseRelation::RotationAngleDeg;
-	if (name == "angle_rad") return PoseRelation::RotationAngleRad;
-	throw std::invalid_argument("unknown pose relation '" + name +
-								"' (valid: trans, full, rot, angle_deg, angle_rad)");
-}
+PoseRelation parse_pose_relation(const std::string& name) { return parse_enum<PoseRelation>(name, "pose relation"); }
 
-std::string pose_relation_name(PoseRelation r)
-{
-	switch (r)
-	{
-		case PoseRelation::TranslationPart: return "trans";
-		case PoseRelation::FullTransformation: return "full";
-		case PoseRelation::RotationPart: return "rot";
-		case PoseRelation::RotationAngleDeg: return "angle_deg";
-		case PoseRelation::RotationAngleRad: return "angle_rad";
-	}
-	return "?";
-}
+std::string pose_relation_name(PoseRelation r) { return enum_name(r); }
 
 std::string pose_relation_description(PoseRelation r)
 {

@@ -188,10 +188,8 @@ Trajectory read_mrpt_ground_truth(const std::string& path)
 	return read_mrpt_ground_truth(f, path);
 }
 
-Trajectory read_trajectory(const std::string& path, const std::string& format)
+Trajectory read_trajectory(const std::string& path, TrajectoryFormat format)
 {
-	if (format == "tum") return read_tum(path);
-	if (format == "mrpt-gt") return read_mrpt_ground_truth(path);
-	throw std::invalid_argument("unknown trajectory format '" + format + "' (valid: tum, mrpt-gt)");
+	return format == TrajectoryFormat::MrptGt ? read_mrpt_ground_truth(path) : read_tum(path);
 }
 }  // namespace swba::eval

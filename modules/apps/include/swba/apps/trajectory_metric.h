@@ -16,8 +16,8 @@ struct TrajectoryMetricOptions
 {
 	bool relative = false;	///< false: APE (uses `ape`), true: RPE (uses `rpe`)
 	std::string ref_path, est_path;
-	std::string ref_format = "tum";	 ///< "tum" or "mrpt-gt"
-	std::string est_format = "tum";	 ///< "tum" or "mrpt-gt"
+	eval::TrajectoryFormat ref_format = eval::TrajectoryFormat::Tum;
+	eval::TrajectoryFormat est_format = eval::TrajectoryFormat::Tum;
 	eval::ApeOptions ape;
 	eval::RpeOptions rpe;
 	std::string save_results_dir;  ///< "" = do not save; else save_results() into it

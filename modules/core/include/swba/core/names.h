@@ -22,12 +22,14 @@
 
 namespace swba
 {
-/** One row of an enum's name table. */
+/** One row of an enum's name table. The first row of a value gives its name; further rows of the
+ * same value are accepted spellings (aliases), not listed as choices. */
 template <class E>
 struct EnumName
 {
 	E value;
 	const char* name;
+	bool alias = false;
 };
 
 /** The table of E: `enum_names(E{})`, declared next to the enum (found by argument-dependent lookup). */
@@ -53,6 +55,7 @@ std::string enum_choices(std::string_view separator = ", ")
 	std::string out;
 	for (const auto& row : enum_table<E>())
 	{
+		if (row.alias) continue;
 		if (!out.empty()) out += separator;
 		out += row.name;
 	}

@@ -3,6 +3,10 @@
  * APE E_i = T_est,i⁻¹ · T_ref,i; RPE E_ij = (Q_i⁻¹ Q_j)⁻¹ (P_i⁻¹ P_j) with Q = reference, P = estimate. */
 #pragma once
 
+#include <swba/core/names.h>
+
+#include <array>
+
 #include <Eigen/Core>
 #include <cstddef>
 #include <string>
@@ -22,6 +26,18 @@ enum class PoseRelation
 	RotationAngleDeg,	///< |rotation vector of R(E)| in degrees
 	RotationAngleRad	///< |rotation vector of R(E)| in radians
 };
+
+/** The command-line names; evo's `-r` names trans_part / rot_part are accepted too. */
+constexpr std::array<EnumName<PoseRelation>, 7> enum_names(PoseRelation)
+{
+	return {{{PoseRelation::TranslationPart, "trans"},
+			 {PoseRelation::FullTransformation, "full"},
+			 {PoseRelation::RotationPart, "rot"},
+			 {PoseRelation::RotationAngleDeg, "angle_deg"},
+			 {PoseRelation::RotationAngleRad, "angle_rad"},
+			 {PoseRelation::TranslationPart, "trans_part", true},
+			 {PoseRelation::RotationPart, "rot_part", true}}};
+}
 
 /** Parses the command-line names "trans", "full", "rot", "angle_deg", "angle_rad" (evo's `-r` names
  * trans_part / rot_part are accepted too). Throws std::invalid_argument listing the valid names. */

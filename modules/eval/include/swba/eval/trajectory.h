@@ -3,6 +3,10 @@
  * ground-truth robot-path files (`x y z yaw pitch roll`, one row per step). */
 #pragma once
 
+#include <swba/core/names.h>
+
+#include <array>
+
 #include <mrpt/poses/CPose3D.h>
 
 #include <Eigen/Core>
@@ -70,7 +74,18 @@ void write_tum(std::ostream& out, const Trajectory& trajectory, int decimals = 9
 Trajectory read_mrpt_ground_truth(const std::string& path);
 Trajectory read_mrpt_ground_truth(std::istream& in, const std::string& source_name);
 
-/** Reads a trajectory file in `format`: "tum" (read_tum) or "mrpt-gt" (read_mrpt_ground_truth).
- * Throws std::invalid_argument on an unknown format, TrajectoryFileError on a malformed file. */
-Trajectory read_trajectory(const std::string& path, const std::string& format = "tum");
+/** Text formats of a trajectory file. */
+enum class TrajectoryFormat
+{
+	Tum,	   ///< "tum": `t x y z qx qy qz qw` per row (read_tum)
+	MrptGt	   ///< "mrpt-gt": MRPT ground-truth robot path, `x y z yaw pitch roll` per row, row i at t = i
+};
+constexpr std::array<EnumName<TrajectoryFormat>, 2> enum_names(TrajectoryFormat)
+{
+	return {{{TrajectoryFormat::Tum, "tum"}, {TrajectoryFormat::MrptGt, "mrpt-gt"}}};
+}
+
+/** Reads a trajectory file in `format` (read_tum or read_mrpt_ground_truth). Throws
+ * TrajectoryFileError on a malformed file. */
+Trajectory read_trajectory(const std::string& path, TrajectoryFormat format = TrajectoryFormat::Tum);
 }  // namespace swba::eval
