@@ -1,5 +1,6 @@
 #include <swba/factors/range_bearing.h>
 
+#include <swba/core/lie.h>
 #include <swba/core/manifold.h>
 
 #include <array>
@@ -55,12 +56,23 @@ bool valid_inverse_depth(const double* lambda)
 	return std::isfinite(lambda[0]) && std::isfinite(lambda[1]) && std::isfinite(lambda[2]) && lambda[2] > 0;
 }
 
+/** An angle residual wrapped into (−π, π] as fmod(a − π, 2π) + π. Unlike wrap_to_pi (core/lie.h) this
+ * rounds through ±π, so it can change the low bits of small residuals; it is kept so that the
+ * estimates of the range-bearing estimators stay bit for bit what they have been. */
+double wrap_angle_residual(double angle)
+{
+	// fmod(a − π, 2π) ∈ (−2π, 2π) → (−2π, 0] → + π ∈ (−π, π].
+	double w = std::fmod(angle - M_PI, 2.0 * M_PI);
+	if (w > 0) w -= 2.0 * M_PI;
+	return w + M_PI;
+}
+
 /** Residual [h − z] with the angles wrapped. */
 void write_residual(const Eigen::Vector3d& h, const RangeBearingMeasurement& z, double* residual)
 {
 	residual[0] = h[0] - z.range;
-	residual[1] = wrap_to_pi(h[1] - z.yaw);
-	residual[2] = wrap_to_pi(h[2] - z.pitch);
+	residual[1] = wrap_angle_residual(h[1] - z.yaw);
+	residual[2] = wrap_angle_residual(h[2] - z.pitch);
 }
 
 std::array<double, SE3Manifold::kAmbient> storage_of(const mrpt::poses::CPose3D& pose)
@@ -70,14 +82,6 @@ std::array<double, SE3Manifold::kAmbient> storage_of(const mrpt::poses::CPose3D&
 	return x;
 }
 }  // namespace
-
-double wrap_to_pi(double angle)
-{
-	// fmod(a − π, 2π) ∈ (−2π, 2π) → (−2π, 0] → + π ∈ (−π, π].
-	double w = std::fmod(angle - M_PI, 2.0 * M_PI);
-	if (w > 0) w -= 2.0 * M_PI;
-	return w + M_PI;
-}
 
 bool range_bearing_model(const Eigen::Vector3d& l, Eigen::Vector3d& h, Eigen::Matrix3d* dh_dl)
 {

@@ -1,3 +1,4 @@
+#include <swba/core/lie.h>
 #include <swba/core/manifold.h>
 #include <swba/factors/relative_pose.h>
 
@@ -23,13 +24,6 @@ Eigen::Quaterniond canonical_quaternion(const Mat33& E)
 Mat33 d_twice_vec_d_right_rotation(const Eigen::Quaterniond& q)
 {
 	return q.w() * Mat33::Identity() + skew(q.vec());
-}
-
-double wrap_angle_pm_pi(double a)
-{
-	a = std::remainder(a, 2.0 * M_PI);  // in [−π, π]
-	if (a <= -M_PI) a += 2.0 * M_PI;
-	return a;
 }
 }  // namespace
 
@@ -124,7 +118,7 @@ bool RelativePose2dFactor::evaluate(const double* const* x, double* residual, do
 	// R(θ_a)ᵀ·(p_b − p_a)
 	residual[0] = c * dx + s * dy - p_ab_.x();
 	residual[1] = -s * dx + c * dy - p_ab_.y();
-	residual[2] = wrap_angle_pm_pi(b[2] - a[2] - theta_ab_);
+	residual[2] = wrap_to_pi(b[2] - a[2] - theta_ab_);
 	if (jacobians)
 	{
 		if (double* J = jacobians[0])  // row-major 3×3
@@ -154,7 +148,7 @@ bool PosePrior2dFactor::evaluate(const double* const* x, double* residual, doubl
 	const double dx = x[0][0] - p0_.x(), dy = x[0][1] - p0_.y();
 	residual[0] = c * dx + s * dy;
 	residual[1] = -s * dx + c * dy;
-	residual[2] = wrap_angle_pm_pi(x[0][2] - theta0_);
+	residual[2] = wrap_to_pi(x[0][2] - theta0_);
 	if (jacobians && jacobians[0])
 	{
 		double* J = jacobians[0];
