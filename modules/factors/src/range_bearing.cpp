@@ -75,6 +75,15 @@ void write_residual(const Eigen::Vector3d& h, const RangeBearingMeasurement& z, 
 	residual[2] = wrap_angle_residual(h[2] - z.pitch);
 }
 
+/** ∂h/∂δT (row-major 3×6) for the observing pose T: ∂h/∂l·[−R_sᵀ, R_sᵀ[q]×], with HRsT = ∂h/∂l·R_sᵀ
+ * and q the landmark in the robot frame. */
+void write_observer_jacobian(const Eigen::Matrix3d& HRsT, const Eigen::Vector3d& q, double* jacobian)
+{
+	Eigen::Map<Matrix36RowMajor> J(jacobian);
+	J.leftCols<3>() = -HRsT;
+	J.rightCols<3>() = HRsT * skew(q);
+}
+
 std::array<double, SE3Manifold::kAmbient> storage_of(const mrpt::poses::CPose3D& pose)
 {
 	std::array<double, SE3Manifold::kAmbient> x;
@@ -129,12 +138,7 @@ bool RangeBearingXyzFactor::evaluate(const double* const* x, double* residual, d
 	write_residual(h, z_, residual);
 	if (!want_jacobians) return true;
 	const Eigen::Matrix3d HRsT = H * Rs_.transpose();
-	if (jacobians[0])
-	{
-		Eigen::Map<Matrix36RowMajor> J(jacobians[0]);
-		J.leftCols<3>() = -HRsT;
-		J.rightCols<3>() = HRsT * skew(q);
-	}
+	if (jacobians[0]) write_observer_jacobian(HRsT, q, jacobians[0]);
 	if (jacobians[1])
 	{
 		Eigen::Map<Matrix33RowMajor> J(jacobians[1]);
@@ -193,12 +197,7 @@ bool RangeBearingInverseDepthFactor::evaluate(const double* const* x, double* re
 		J.leftCols<3>() = H_dp;
 		J.rightCols<3>() = -H_dp * skew(sa);
 	}
-	if (jacobians[1])
-	{
-		Eigen::Map<Matrix36RowMajor> J(jacobians[1]);
-		J.leftCols<3>() = -HRsT;
-		J.rightCols<3>() = HRsT * skew(q);
-	}
+	if (jacobians[1]) write_observer_jacobian(HRsT, q, jacobians[1]);
 	if (jacobians[2])
 	{
 		Eigen::Map<Matrix33RowMajor> J(jacobians[2]);

@@ -6,12 +6,10 @@
  * PseudoLog(T) = [t, Log(R)]; y ⊟ x = PseudoLog(x⁻¹·y). */
 #pragma once
 
-#include <swba/core/factor.h>
 #include <swba/core/lie.h>
+#include <swba/factors/pose_error.h>
 
 #include <mrpt/poses/CPose3D.h>
-
-#include <Eigen/Core>
 
 namespace swba
 {
@@ -22,20 +20,12 @@ namespace swba
  * the residual of MRPT's graph-SLAM edges. Variables: x[0] = Ti, x[1] = Tj (SE3Manifold, 12 doubles).
  * Jacobians (6×6, row-major), with E = Z⁻¹Ti⁻¹Tj, φ = Log(R_E), d = Riᵀ(tj − ti):
  *   ∂r/∂δi = [[−R_zᵀ, R_zᵀ[d]×], [0, −J_r⁻¹(φ)·R_jᵀR_i]],  ∂r/∂δj = [[R_E, 0], [0, J_r⁻¹(φ)]].
- * The information matrix (6×6, in the order of r) is set by the caller (set_information). */
-class BetweenPoseFactor final : public Factor
+ * The information matrix (6×6, in the order of r) is set by the caller (set_information).
+ * `measured` is Z, the pose of j in the frame of i (e.g. an odometry increment). */
+class BetweenPoseFactor final : public PoseErrorFactor
 {
    public:
-	/** `measured` is Z, the pose of j in the frame of i (e.g. an odometry increment). */
 	explicit BetweenPoseFactor(const mrpt::poses::CPose3D& measured);
-
 	bool evaluate(const double* const* x, double* residual, double* const* jacobians) const override;
-
-	const mrpt::poses::CPose3D& measured() const { return measured_; }
-
-   private:
-	mrpt::poses::CPose3D measured_;
-	Eigen::Matrix3d Rz_;
-	Eigen::Vector3d tz_;
 };
 }  // namespace swba
