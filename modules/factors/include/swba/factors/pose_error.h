@@ -14,6 +14,7 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <Eigen/Core>
+#include <vector>
 
 namespace swba
 {
