@@ -1,4 +1,4 @@
-// Tests of BetweenPoseFactor, PosePriorFactor and the SO(3) inverse right Jacobian.
+// Tests of BetweenPoseFactor and PosePriorFactor (the SO(3) helpers they use are tested in tests/core).
 #include "factor_test_fixtures.h"
 
 #include <swba/factors/between_pose.h>
@@ -63,41 +63,6 @@ std::vector<BetweenCase> between_cases()
 	return cases;
 }
 }  // namespace
-
-TEST(So3RightJacobianInverse, LinearisesLogOfProduct)
-{
-	// Log(Exp(φ)·Exp(δ)) ≈ φ + J_r⁻¹(φ)·δ; central differences of MRPT's Log at several angles.
-	Rng rng(7);
-	for (double theta : {0.0, 1e-9, 1e-5, 0.99e-4, 1.01e-4, 0.3, 2.0, M_PI - 1e-3, M_PI - 1e-5})
-	{
-		const Eigen::Vector3d phi = theta * rng.unit();
-		const Eigen::Matrix3d J = so3_right_jacobian_inverse(phi);
-		mrpt::math::CVectorFixedDouble<3> p;
-		for (int i = 0; i < 3; i++) p[i] = phi[i];
-		const Eigen::Matrix3d R = mrpt::poses::Lie::SO<3>::exp(p).asEigen();
-		const double h = 1e-6;
-		Eigen::Matrix3d N;
-		for (int c = 0; c < 3; c++)
-		{
-			Eigen::Vector3d d = Eigen::Vector3d::Zero();
-			d[c] = h;
-			const Pose Xp = make_pose(R * axis_angle(h, d), Eigen::Vector3d::Zero());
-			const Pose Xm = make_pose(R * axis_angle(-h, d), Eigen::Vector3d::Zero());
-			N.col(c) = (se3_pseudo_log(rotation(Xp), Eigen::Vector3d::Zero()).tail<3>() -
-						se3_pseudo_log(rotation(Xm), Eigen::Vector3d::Zero()).tail<3>()) /
-					   (2 * h);
-		}
-		EXPECT_LE((J - N).cwiseAbs().maxCoeff(), 1e-6) << "theta = " << theta;
-	}
-}
-
-TEST(So3RightJacobianInverse, SeriesAndClosedFormAgreeAtSwitch)
-{
-	const Eigen::Vector3d axis = Eigen::Vector3d(1, -2, 0.5).normalized();
-	const Eigen::Matrix3d below = so3_right_jacobian_inverse((1e-4 * (1 - 1e-12)) * axis);
-	const Eigen::Matrix3d above = so3_right_jacobian_inverse((1e-4 * (1 + 1e-12)) * axis);
-	EXPECT_LE((below - above).cwiseAbs().maxCoeff(), 1e-15);
-}
 
 TEST(BetweenPose, ResidualIsMrptPseudoLogOfZinvTiinvTj)
 {

@@ -1,5 +1,5 @@
 // Tests of the range-bearing factors (XYZ and inverse-depth landmarks), the sensor model against
-// MRPT's, angle wrapping, and the inverse-depth conversions.
+// MRPT's, the wrapped angle residuals, and the inverse-depth conversions.
 #include "factor_test_fixtures.h"
 
 #include <swba/factors/range_bearing.h>
@@ -77,26 +77,6 @@ RangeBearingMeasurement noisy(const Eigen::Vector3d& h, Rng& rng)
 }  // namespace
 
 // ------------------------------------------------------------------------------------------------
-TEST(WrapToPi, RangeIsMinusPiExclusiveToPiInclusive)
-{
-	EXPECT_EQ(wrap_to_pi(M_PI), M_PI);
-	EXPECT_EQ(wrap_to_pi(-M_PI), M_PI);
-	EXPECT_NEAR(wrap_to_pi(3 * M_PI), M_PI, 1e-15);
-	EXPECT_EQ(wrap_to_pi(0.0), 0.0);
-	EXPECT_NEAR(wrap_to_pi(-1.5 * M_PI), 0.5 * M_PI, 1e-15);
-	EXPECT_NEAR(wrap_to_pi(2 * M_PI + 0.1), 0.1, 1e-15);
-	EXPECT_NEAR(wrap_to_pi(-2 * M_PI - 0.1), -0.1, 1e-15);
-	EXPECT_NEAR(wrap_to_pi(M_PI + 1e-3), -M_PI + 1e-3, 1e-15);
-	EXPECT_NEAR(wrap_to_pi(-M_PI - 1e-3), M_PI - 1e-3, 1e-15);
-	for (double a = -20.0; a <= 20.0; a += 0.01)
-	{
-		const double w = wrap_to_pi(a);
-		ASSERT_GT(w, -M_PI);
-		ASSERT_LE(w, M_PI);
-		ASSERT_NEAR(std::remainder(a - w, 2 * M_PI), 0.0, 1e-12);
-	}
-}
-
 TEST(RangeBearing, ResidualWrapsYawAndPitchAcrossPlusMinusPi)
 {
 	// Landmark just behind the sensor (yaw = π − 1e-3) measured at yaw = −π + 1e-3: residual −2e-3, not 2π − 2e-3.

@@ -1,5 +1,6 @@
 #include <swba/factors/monocular_inverse_depth.h>
 
+#include <swba/core/lie.h>
 #include <swba/core/manifold.h>
 
 #include <cmath>

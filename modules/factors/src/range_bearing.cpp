@@ -1,5 +1,6 @@
 #include <swba/factors/range_bearing.h>
 
+#include <swba/core/lie.h>
 #include <swba/core/manifold.h>
 
 #include <array>
@@ -55,12 +56,32 @@ bool valid_inverse_depth(const double* lambda)
 	return std::isfinite(lambda[0]) && std::isfinite(lambda[1]) && std::isfinite(lambda[2]) && lambda[2] > 0;
 }
 
+/** An angle residual wrapped into (−π, π] as fmod(a − π, 2π) + π. Unlike wrap_to_pi (core/lie.h) this
+ * rounds through ±π, so it can change the low bits of small residuals; it is kept so that the
+ * estimates of the range-bearing estimators stay bit for bit what they have been. */
+double wrap_angle_residual(double angle)
+{
+	// fmod(a − π, 2π) ∈ (−2π, 2π) → (−2π, 0] → + π ∈ (−π, π].
+	double w = std::fmod(angle - M_PI, 2.0 * M_PI);
+	if (w > 0) w -= 2.0 * M_PI;
+	return w + M_PI;
+}
+
 /** Residual [h − z] with the angles wrapped. */
 void write_residual(const Eigen::Vector3d& h, const RangeBearingMeasurement& z, double* residual)
 {
 	residual[0] = h[0] - z.range;
-	residual[1] = wrap_to_pi(h[1] - z.yaw);
-	residual[2] = wrap_to_pi(h[2] - z.pitch);
+	residual[1] = wrap_angle_residual(h[1] - z.yaw);
+	residual[2] = wrap_angle_residual(h[2] - z.pitch);
+}
+
+/** ∂h/∂δT (row-major 3×6) for the observing pose T: ∂h/∂l·[−R_sᵀ, R_sᵀ[q]×], with HRsT = ∂h/∂l·R_sᵀ
+ * and q the landmark in the robot frame. */
+void write_observer_jacobian(const Eigen::Matrix3d& HRsT, const Eigen::Vector3d& q, double* jacobian)
+{
+	Eigen::Map<Matrix36RowMajor> J(jacobian);
+	J.leftCols<3>() = -HRsT;
+	J.rightCols<3>() = HRsT * skew(q);
 }
 
 std::array<double, SE3Manifold::kAmbient> storage_of(const mrpt::poses::CPose3D& pose)
@@ -70,14 +91,6 @@ std::array<double, SE3Manifold::kAmbient> storage_of(const mrpt::poses::CPose3D&
 	return x;
 }
 }  // namespace
-
-double wrap_to_pi(double angle)
-{
-	// fmod(a − π, 2π) ∈ (−2π, 2π) → (−2π, 0] → + π ∈ (−π, π].
-	double w = std::fmod(angle - M_PI, 2.0 * M_PI);
-	if (w > 0) w -= 2.0 * M_PI;
-	return w + M_PI;
-}
 
 bool range_bearing_model(const Eigen::Vector3d& l, Eigen::Vector3d& h, Eigen::Matrix3d* dh_dl)
 {
@@ -125,12 +138,7 @@ bool RangeBearingXyzFactor::evaluate(const double* const* x, double* residual, d
 	write_residual(h, z_, residual);
 	if (!want_jacobians) return true;
 	const Eigen::Matrix3d HRsT = H * Rs_.transpose();
-	if (jacobians[0])
-	{
-		Eigen::Map<Matrix36RowMajor> J(jacobians[0]);
-		J.leftCols<3>() = -HRsT;
-		J.rightCols<3>() = HRsT * skew(q);
-	}
+	if (jacobians[0]) write_observer_jacobian(HRsT, q, jacobians[0]);
 	if (jacobians[1])
 	{
 		Eigen::Map<Matrix33RowMajor> J(jacobians[1]);
@@ -189,12 +197,7 @@ bool RangeBearingInverseDepthFactor::evaluate(const double* const* x, double* re
 		J.leftCols<3>() = H_dp;
 		J.rightCols<3>() = -H_dp * skew(sa);
 	}
-	if (jacobians[1])
-	{
-		Eigen::Map<Matrix36RowMajor> J(jacobians[1]);
-		J.leftCols<3>() = -HRsT;
-		J.rightCols<3>() = HRsT * skew(q);
-	}
+	if (jacobians[1]) write_observer_jacobian(HRsT, q, jacobians[1]);
 	if (jacobians[2])
 	{
 		Eigen::Map<Matrix33RowMajor> J(jacobians[2]);

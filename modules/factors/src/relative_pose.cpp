@@ -1,3 +1,4 @@
+#include <swba/core/lie.h>
 #include <swba/core/manifold.h>
 #include <swba/factors/relative_pose.h>
 
@@ -23,13 +24,6 @@ Eigen::Quaterniond canonical_quaternion(const Mat33& E)
 Mat33 d_twice_vec_d_right_rotation(const Eigen::Quaterniond& q)
 {
 	return q.w() * Mat33::Identity() + skew(q.vec());
-}
-
-double wrap_angle_pm_pi(double a)
-{
-	a = std::remainder(a, 2.0 * M_PI);  // in [−π, π]
-	if (a <= -M_PI) a += 2.0 * M_PI;
-	return a;
 }
 }  // namespace
 
@@ -110,58 +104,48 @@ bool PosePriorQuatFactor::evaluate(const double* const* x, double* residual, dou
 	return true;
 }
 
-RelativePose2dFactor::RelativePose2dFactor(double x_ab, double y_ab, double theta_ab)
-	: Factor(3, {3, 3}), p_ab_(x_ab, y_ab), theta_ab_(theta_ab)
+Pose2dErrorFactor::Pose2dErrorFactor(const Eigen::Vector3d& z) : Factor(3, {3, 3}), z_(z), fixed_a_(0, 0, 0) {}
+
+Pose2dErrorFactor::Pose2dErrorFactor(const Eigen::Vector3d& z, const Eigen::Vector3d& fixed_a)
+	: Factor(3, {3}), z_(z), fixed_a_(fixed_a)
 {
 }
 
-bool RelativePose2dFactor::evaluate(const double* const* x, double* residual, double* const* jacobians) const
+bool Pose2dErrorFactor::evaluate(const double* const* x, double* residual, double* const* jacobians) const
 {
-	const double* a = x[0];
-	const double* b = x[1];
+	const bool unary = num_variables() == 1;
+	const double* a = unary ? fixed_a_.data() : x[0];
+	const double* b = unary ? x[0] : x[1];
+	double* J_a = jacobians && !unary ? jacobians[0] : nullptr;  // row-major 3×3
+	double* J_b = jacobians ? jacobians[unary ? 0 : 1] : nullptr;
 	const double c = std::cos(a[2]), s = std::sin(a[2]);
 	const double dx = b[0] - a[0], dy = b[1] - a[1];
 	// R(θ_a)ᵀ·(p_b − p_a)
-	residual[0] = c * dx + s * dy - p_ab_.x();
-	residual[1] = -s * dx + c * dy - p_ab_.y();
-	residual[2] = wrap_angle_pm_pi(b[2] - a[2] - theta_ab_);
-	if (jacobians)
+	residual[0] = c * dx + s * dy - z_.x();
+	residual[1] = -s * dx + c * dy - z_.y();
+	residual[2] = wrap_to_pi(b[2] - a[2] - z_.z());
+	if (J_a)
 	{
-		if (double* J = jacobians[0])  // row-major 3×3
-		{
-			J[0] = -c, J[1] = -s, J[2] = -s * dx + c * dy;
-			J[3] = s, J[4] = -c, J[5] = -c * dx - s * dy;
-			J[6] = 0, J[7] = 0, J[8] = -1;
-		}
-		if (double* J = jacobians[1])
-		{
-			J[0] = c, J[1] = s, J[2] = 0;
-			J[3] = -s, J[4] = c, J[5] = 0;
-			J[6] = 0, J[7] = 0, J[8] = 1;
-		}
+		J_a[0] = -c, J_a[1] = -s, J_a[2] = -s * dx + c * dy;
+		J_a[3] = s, J_a[4] = -c, J_a[5] = -c * dx - s * dy;
+		J_a[6] = 0, J_a[7] = 0, J_a[8] = -1;
+	}
+	if (J_b)
+	{
+		J_b[0] = c, J_b[1] = s, J_b[2] = 0;
+		J_b[3] = -s, J_b[4] = c, J_b[5] = 0;
+		J_b[6] = 0, J_b[7] = 0, J_b[8] = 1;
 	}
 	return true;
+}
+
+RelativePose2dFactor::RelativePose2dFactor(double x_ab, double y_ab, double theta_ab)
+	: Pose2dErrorFactor(Eigen::Vector3d(x_ab, y_ab, theta_ab))
+{
 }
 
 PosePrior2dFactor::PosePrior2dFactor(double x0, double y0, double theta0)
-	: Factor(3, {3}), p0_(x0, y0), theta0_(theta0)
+	: Pose2dErrorFactor(Eigen::Vector3d::Zero(), Eigen::Vector3d(x0, y0, theta0))
 {
-}
-
-bool PosePrior2dFactor::evaluate(const double* const* x, double* residual, double* const* jacobians) const
-{
-	const double c = std::cos(theta0_), s = std::sin(theta0_);
-	const double dx = x[0][0] - p0_.x(), dy = x[0][1] - p0_.y();
-	residual[0] = c * dx + s * dy;
-	residual[1] = -s * dx + c * dy;
-	residual[2] = wrap_angle_pm_pi(x[0][2] - theta0_);
-	if (jacobians && jacobians[0])
-	{
-		double* J = jacobians[0];
-		J[0] = c, J[1] = s, J[2] = 0;
-		J[3] = -s, J[4] = c, J[5] = 0;
-		J[6] = 0, J[7] = 0, J[8] = 1;
-	}
-	return true;
 }
 }  // namespace swba

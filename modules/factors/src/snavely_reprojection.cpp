@@ -1,4 +1,4 @@
-#include <swba/core/manifold.h>
+#include <swba/core/lie.h>
 #include <swba/factors/snavely_reprojection.h>
 
 #include <Eigen/Geometry>
@@ -6,40 +6,6 @@
 
 namespace swba
 {
-namespace
-{
-/** Coefficients of R(ω) = I + a·W + b·W² and J_l(ω) = I + b·W + c·W² (W = [ω]×):
- * a = sin θ/θ, b = (1 − cos θ)/θ², c = (θ − sin θ)/θ³. Below θ = 0.1 the closed forms lose digits
- * to cancellation (c: ~6e-8 relative at θ = 1e-4), so their Taylor series are used there; the
- * first omitted term is < 3e-17 relative at θ = 0.1. */
-struct RodriguesCoefficients
-{
-	double a, b, c;
-};
-
-inline RodriguesCoefficients rodrigues_coefficients(double theta_sq)
-{
-	RodriguesCoefficients k;
-	if (theta_sq < 1e-2)
-	{
-		const double t2 = theta_sq, t4 = t2 * t2, t6 = t4 * t2, t8 = t4 * t4;
-		k.a = 1.0 - t2 / 6.0 + t4 / 120.0 - t6 / 5040.0 + t8 / 362880.0;
-		k.b = 0.5 - t2 / 24.0 + t4 / 720.0 - t6 / 40320.0 + t8 / 3628800.0;
-		k.c = 1.0 / 6.0 - t2 / 120.0 + t4 / 5040.0 - t6 / 362880.0 + t8 / 39916800.0;
-	}
-	else
-	{
-		const double theta = std::sqrt(theta_sq);
-		const double s = std::sin(theta);
-		const double half_s = std::sin(0.5 * theta);
-		k.a = s / theta;
-		k.b = 2.0 * half_s * half_s / theta_sq;
-		k.c = (theta - s) / (theta_sq * theta);
-	}
-	return k;
-}
-}  // namespace
-
 Eigen::Vector3d angle_axis_rotate_point(const double* omega, const Eigen::Vector3d& X)
 {
 	const Eigen::Map<const Eigen::Vector3d> w(omega);

@@ -3,6 +3,8 @@
  * Values are stored as plain arrays of `ambient_size()` doubles; updates have `tangent_size()`. */
 #pragma once
 
+#include <swba/core/lie.h>
+
 #include <mrpt/poses/CPose3D.h>
 
 #include <Eigen/Core>
@@ -66,12 +68,4 @@ std::shared_ptr<const EuclideanManifold> euclidean_manifold(int n);
 using SE3Storage = Eigen::Matrix<double, 3, 4, Eigen::RowMajor>;
 inline Eigen::Map<const SE3Storage> se3_view(const double* x) { return Eigen::Map<const SE3Storage>(x); }
 inline Eigen::Map<SE3Storage> se3_view(double* x) { return Eigen::Map<SE3Storage>(x); }
-
-/** Skew-symmetric matrix [v]× such that [v]× w = v × w. */
-inline Eigen::Matrix3d skew(const Eigen::Vector3d& v)
-{
-	Eigen::Matrix3d S;
-	S << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-	return S;
-}
 }  // namespace swba

@@ -1,25 +1,18 @@
 /** \file between_pose.h
- * SE(3) relative-pose (odometry) factor, and the SO(3) Jacobian it is built from.
+ * SE(3) relative-pose (odometry) factor. The SO(3) / SE(3) helpers it is built from
+ * (so3_right_jacobian_inverse, se3_pseudo_log) are in swba/core/lie.h, included here.
  *
  * Convention (as SE3Manifold and mrpt::poses::Lie::SE<3>): T ⊞ δ = T·PseudoExp(δ), δ = [ρ, ω],
  * PseudoLog(T) = [t, Log(R)]; y ⊟ x = PseudoLog(x⁻¹·y). */
 #pragma once
 
-#include <swba/core/factor.h>
+#include <swba/core/lie.h>
+#include <swba/factors/pose_error.h>
 
 #include <mrpt/poses/CPose3D.h>
 
-#include <Eigen/Core>
-
 namespace swba
 {
-/** Inverse right Jacobian of SO(3): Log(Exp(φ)·Exp(δ)) = φ + J_r⁻¹(φ)·δ + O(δ²), for ‖φ‖ < 2π.
- * J_r⁻¹(φ) = I + ½[φ]× + (1/θ² − (1 + cos θ)/(2θ sin θ))·[φ]×², θ = ‖φ‖ (series below θ = 1e-4). */
-Eigen::Matrix3d so3_right_jacobian_inverse(const Eigen::Vector3d& phi);
-
-/** PseudoLog(E) = [t_E, Log(R_E)] of an SE(3) transform E = [R_E | t_E]. */
-Eigen::Matrix<double, 6, 1> se3_pseudo_log(const Eigen::Matrix3d& R, const Eigen::Vector3d& t);
-
 /** Relative pose ("between", odometry) factor.
  *
  *   r = PseudoLog(Z⁻¹·Ti⁻¹·Tj) = Tj ⊟ (Ti·Z) ∈ R⁶ (translation first, then rotation),
@@ -27,20 +20,12 @@ Eigen::Matrix<double, 6, 1> se3_pseudo_log(const Eigen::Matrix3d& R, const Eigen
  * the residual of MRPT's graph-SLAM edges. Variables: x[0] = Ti, x[1] = Tj (SE3Manifold, 12 doubles).
  * Jacobians (6×6, row-major), with E = Z⁻¹Ti⁻¹Tj, φ = Log(R_E), d = Riᵀ(tj − ti):
  *   ∂r/∂δi = [[−R_zᵀ, R_zᵀ[d]×], [0, −J_r⁻¹(φ)·R_jᵀR_i]],  ∂r/∂δj = [[R_E, 0], [0, J_r⁻¹(φ)]].
- * The information matrix (6×6, in the order of r) is set by the caller (set_information). */
-class BetweenPoseFactor final : public Factor
+ * The information matrix (6×6, in the order of r) is set by the caller (set_information).
+ * `measured` is Z, the pose of j in the frame of i (e.g. an odometry increment). */
+class BetweenPoseFactor final : public PoseErrorFactor
 {
    public:
-	/** `measured` is Z, the pose of j in the frame of i (e.g. an odometry increment). */
 	explicit BetweenPoseFactor(const mrpt::poses::CPose3D& measured);
-
 	bool evaluate(const double* const* x, double* residual, double* const* jacobians) const override;
-
-	const mrpt::poses::CPose3D& measured() const { return measured_; }
-
-   private:
-	mrpt::poses::CPose3D measured_;
-	Eigen::Matrix3d Rz_;
-	Eigen::Vector3d tz_;
 };
 }  // namespace swba

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <swba/core/factor.h>
+#include <swba/core/lie.h>  // wrap_to_pi
 
 #include <mrpt/poses/CPose3D.h>
 
@@ -28,9 +29,6 @@ struct RangeBearingMeasurement
 {
 	double range = 0, yaw = 0, pitch = 0;
 };
-
-/** Wraps an angle to (−π, π]. */
-double wrap_to_pi(double angle);
 
 /** The sensor model h(l) = [‖l‖, atan2(l.y, l.x), −asin(l.z/‖l‖)] of a point l in the sensor frame,
  * and optionally its 3×3 Jacobian ∂h/∂l. Returns false (h unusable) when l is not finite, l = 0 or

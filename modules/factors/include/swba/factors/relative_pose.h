@@ -66,27 +66,37 @@ class PosePriorQuatFactor final : public Factor
 	Eigen::Vector3d t0_;
 };
 
-/** Relative SE(2) measurement (x_ab, y_ab, θ_ab); variables are (x, y, θ) on EuclideanManifold(3). */
-class RelativePose2dFactor final : public Factor
+/** Base of the SE(2) factors: the error of pose b in the frame of pose a against a measurement
+ * z = (x_z, y_z, θ_z), r = [R(θ_a)ᵀ(p_b − p_a) − p_z ; wrap(θ_b − θ_a − θ_z)], over variables (x, y, θ) on
+ * EuclideanManifold(3). Either both poses are variables (x[0] = a, x[1] = b) or a is held fixed and
+ * the factor is unary (x[0] = b). */
+class Pose2dErrorFactor : public Factor
+{
+   public:
+	bool evaluate(const double* const* x, double* residual, double* const* jacobians) const final;
+
+   protected:
+	/** Binary: a and b are the variables. */
+	explicit Pose2dErrorFactor(const Eigen::Vector3d& z);
+	/** Unary: a is fixed at `fixed_a`, b is the variable. */
+	Pose2dErrorFactor(const Eigen::Vector3d& z, const Eigen::Vector3d& fixed_a);
+
+   private:
+	Eigen::Vector3d z_, fixed_a_;
+};
+
+/** Relative SE(2) measurement (x_ab, y_ab, θ_ab) of pose b in the frame of pose a. */
+class RelativePose2dFactor final : public Pose2dErrorFactor
 {
    public:
 	RelativePose2dFactor(double x_ab, double y_ab, double theta_ab);
-	bool evaluate(const double* const* x, double* residual, double* const* jacobians) const override;
-
-   private:
-	Eigen::Vector2d p_ab_;
-	double theta_ab_;
 };
 
-/** Unary SE(2) prior: r = [R(θ0)ᵀ(p − p0) ; wrap(θ − θ0)]. */
-class PosePrior2dFactor final : public Factor
+/** Unary SE(2) prior: r = [R(θ0)ᵀ(p − p0) ; wrap(θ − θ0)], the zero measurement from the fixed pose
+ * (x0, y0, θ0). */
+class PosePrior2dFactor final : public Pose2dErrorFactor
 {
    public:
 	PosePrior2dFactor(double x0, double y0, double theta0);
-	bool evaluate(const double* const* x, double* residual, double* const* jacobians) const override;
-
-   private:
-	Eigen::Vector2d p0_;
-	double theta0_;
 };
 }  // namespace swba

@@ -16,7 +16,8 @@
 
 namespace swba
 {
-/** R(ω)·X by Rodrigues' formula (series expansion for ‖ω‖ < 1e-4, exact to double precision). */
+/** R(ω)·X by Rodrigues' formula (rodrigues_coefficients: series expansion below ‖ω‖ = 0.1, exact to
+ * double precision). */
 Eigen::Vector3d angle_axis_rotate_point(const double* omega, const Eigen::Vector3d& X);
 
 /** Camera centre in world coordinates, c = −R(ω)ᵀ·t, of a 9-parameter Snavely camera. */

@@ -1,0 +1,56 @@
+#include <swba/nonlinear/solver.h>
+
+#include <stdexcept>
+#include <utility>
+
+namespace swba
+{
+namespace
+{
+/** Every linear solver with its name, in the order the names are listed to the user. */
+constexpr std::pair<LinearSolverType, const char*> kLinearSolverNames[] = {
+	{LinearSolverType::Auto, "auto"},
+	{LinearSolverType::DenseSchur, "dense-schur"},
+	{LinearSolverType::SparseSchur, "sparse-schur"},
+	{LinearSolverType::DenseNormal, "dense-normal"},
+	{LinearSolverType::SparseNormal, "sparse-normal"}};
+}  // namespace
+
+LinearSolverType parse_linear_solver(const std::string& name)
+{
+	std::string expected;
+	for (const auto& [type, text] : kLinearSolverNames)
+	{
+		if (name == text) return type;
+		expected += (expected.empty() ? "" : ", ") + std::string(text);
+	}
+	throw std::invalid_argument("unknown linear solver '" + name + "' (expected " + expected + ")");
+}
+
+std::string to_string(LinearSolverType t)
+{
+	for (const auto& [type, text] : kLinearSolverNames)
+		if (type == t) return text;
+	return "?";
+}
+
+bool SolverOptions::is_valid(std::string* why) const
+{
+	auto fail = [&](const char* msg) {
+		if (why) *why = msg;
+		return false;
+	};
+	if (max_iterations < 0) return fail("max_iterations must be >= 0");
+	if (!(function_tolerance >= 0)) return fail("function_tolerance must be >= 0");
+	if (!(gradient_tolerance >= 0)) return fail("gradient_tolerance must be >= 0");
+	if (!(parameter_tolerance >= 0)) return fail("parameter_tolerance must be >= 0");
+	if (!(initial_trust_region_radius > 0)) return fail("initial_trust_region_radius must be > 0");
+	if (!(max_trust_region_radius >= initial_trust_region_radius))
+		return fail("max_trust_region_radius must be >= initial_trust_region_radius");
+	if (!(min_lm_diagonal > 0) || !(max_lm_diagonal >= min_lm_diagonal))
+		return fail("need 0 < min_lm_diagonal <= max_lm_diagonal");
+	if (num_threads < 1) return fail("num_threads must be >= 1");
+	if (dense_max_dim < 0) return fail("dense_max_dim must be >= 0");
+	return true;
+}
+}  // namespace swba
