@@ -90,7 +90,7 @@ int run_run(int argc, char** argv)
 		if (policy_arg.isSet()) o.policies = estimators::parse_policy_list(policy_arg.getValue());
 		if (fej_arg.isSet()) o.fej = estimators::parse_fej_list(fej_arg.getValue());
 		if (landmarks_arg.isSet()) o.window.landmarks = estimators::parse_landmark_parameterization(landmarks_arg.getValue());
-		if (gauge_arg.isSet()) o.window.gauge = estimators::parse_gauge_mode(gauge_arg.getValue());
+		if (gauge_arg.isSet()) o.window.gauge = parse_gauge_mode(gauge_arg.getValue());
 		constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 		auto noise = [](TCLAP::ValueArg<double>& a, double scale, double& dst) {
 			if (!a.isSet()) return;

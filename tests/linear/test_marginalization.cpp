@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <swba/linear/marginalization.h>
+#include <swba/linear/marginal.h>
 
 #include <Eigen/Dense>
 #include <random>

@@ -2,7 +2,7 @@
 // chain, FEJ keeps the prior free of information along the gauge directions.
 #include <gtest/gtest.h>
 #include <swba/factors/linear_prior.h>
-#include <swba/linear/marginalization.h>
+#include <swba/linear/marginal.h>
 #include <swba/nonlinear/linearization.h>
 
 #include <Eigen/Dense>

@@ -1,7 +1,7 @@
 #include "prior_only_elimination.h"
 
 #include <swba/factors/linear_prior.h>
-#include <swba/linear/marginalization.h>
+#include <swba/linear/marginal.h>
 #include <swba/core/loss.h>
 
 #include <Eigen/Cholesky>

@@ -13,7 +13,7 @@
  * The full prior is restored afterwards, so marginalisation and re-observations see the whole map. */
 #pragma once
 
-#include <swba/linear/marginalization.h>
+#include <swba/linear/marginal.h>
 #include <swba/nonlinear/problem.h>
 
 #include <memory>

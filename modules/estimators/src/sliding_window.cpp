@@ -1,11 +1,11 @@
 #include <swba/estimators/sliding_window.h>
 
-#include <swba/estimators/first_estimate.h>
+#include <swba/factors/first_estimate.h>
 #include <swba/factors/between_pose.h>
 #include <swba/factors/linear_prior.h>
 #include <swba/factors/pose_prior.h>
 #include <swba/factors/range_bearing.h>
-#include <swba/linear/marginalization.h>
+#include <swba/linear/marginal.h>
 #include <swba/nonlinear/linearization.h>
 
 #include "prior_only_elimination.h"

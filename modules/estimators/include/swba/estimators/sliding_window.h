@@ -15,9 +15,9 @@
  * \endcode */
 #pragma once
 
-#include <swba/estimators/gauge.h>
 #include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
+#include <swba/nonlinear/gauge.h>
 #include <swba/nonlinear/solver.h>
 
 #include <cstdint>

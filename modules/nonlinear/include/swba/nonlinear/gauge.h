@@ -4,7 +4,7 @@
 
 #include <string>
 
-namespace swba::estimators
+namespace swba
 {
 /** How an estimator removes or damps the gauge freedom of its problem. */
 enum class GaugeMode
@@ -17,4 +17,4 @@ enum class GaugeMode
 /** Parses "free", "fixed", "prior"; throws std::invalid_argument otherwise. */
 GaugeMode parse_gauge_mode(const std::string& name);
 std::string to_string(GaugeMode mode);
-}  // namespace swba::estimators
+}  // namespace swba

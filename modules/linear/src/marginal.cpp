@@ -1,4 +1,4 @@
-#include <swba/linear/marginalization.h>
+#include <swba/linear/marginal.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
