@@ -11,17 +11,6 @@
 
 namespace swba::estimators::detail
 {
-namespace
-{
-/** Columns `cols` (scalar indices) of J, in that order. */
-Eigen::MatrixXd gather_columns(const Eigen::MatrixXd& J, const std::vector<int>& cols)
-{
-	Eigen::MatrixXd out(J.rows(), static_cast<Eigen::Index>(cols.size()));
-	for (std::size_t c = 0; c < cols.size(); c++) out.col(static_cast<Eigen::Index>(c)) = J.col(cols[c]);
-	return out;
-}
-}  // namespace
-
 bool PriorOnlyElimination::split(const Problem& problem, FactorId prior_factor, const std::vector<VariableId>& vars,
 								 const std::vector<std::vector<double>>& x_lin,
 								 const std::function<bool(VariableId)>& eliminable, Eigen::Index total_cols)
@@ -75,16 +64,7 @@ bool PriorOnlyElimination::begin(Problem& problem, FactorId prior_factor, const 
 {
 	if (e.size() != J.rows()) throw std::invalid_argument("PriorOnlyElimination: J and e disagree");
 	if (!split(problem, prior_factor, vars, x_lin, eliminable, J.cols())) return false;
-	// H = JᵀJ and b = −Jᵀe, split into the p and a blocks.
-	const Eigen::MatrixXd Jp = gather_columns(J, pcols_), Ja = gather_columns(J, acols_);
-	Eigen::MatrixXd Hpp = Eigen::MatrixXd::Zero(Jp.cols(), Jp.cols());
-	Hpp.selfadjointView<Eigen::Lower>().rankUpdate(Jp.transpose());
-	Hpp = Eigen::MatrixXd(Hpp.selfadjointView<Eigen::Lower>());
-	Eigen::MatrixXd Haa = Eigen::MatrixXd::Zero(Ja.cols(), Ja.cols());
-	Haa.selfadjointView<Eigen::Lower>().rankUpdate(Ja.transpose());
-	Haa = Eigen::MatrixXd(Haa.selfadjointView<Eigen::Lower>());
-	reduce(problem, prior_factor, Hpp, Jp.transpose() * Ja, std::move(Haa), -(Jp.transpose() * e),
-		   -(Ja.transpose() * e), threshold);
+	reduce(problem, prior_factor, partition_square_root(J, e, pcols_, acols_), threshold);
 	return true;
 }
 
@@ -95,58 +75,19 @@ bool PriorOnlyElimination::begin(Problem& problem, FactorId prior_factor, const 
 {
 	if (H.rows() != H.cols() || b.size() != H.rows()) throw std::invalid_argument("PriorOnlyElimination: H and b disagree");
 	if (!split(problem, prior_factor, vars, x_lin, eliminable, H.cols())) return false;
-	const Eigen::Index np = static_cast<Eigen::Index>(pcols_.size()), na = static_cast<Eigen::Index>(acols_.size());
-	Eigen::MatrixXd Hpp(np, np), Hpa(np, na), Haa(na, na);
-	Eigen::VectorXd bp(np), ba(na);
-	for (Eigen::Index j = 0; j < np; j++)
-	{
-		for (Eigen::Index i = 0; i < np; i++) Hpp(i, j) = H(pcols_[i], pcols_[j]);
-		bp[j] = b[pcols_[j]];
-	}
-	for (Eigen::Index j = 0; j < na; j++)
-	{
-		for (Eigen::Index i = 0; i < np; i++) Hpa(i, j) = H(pcols_[i], acols_[j]);
-		for (Eigen::Index i = 0; i < na; i++) Haa(i, j) = H(acols_[i], acols_[j]);
-		ba[j] = b[acols_[j]];
-	}
-	reduce(problem, prior_factor, Hpp, Hpa, std::move(Haa), bp, ba, threshold);
+	reduce(problem, prior_factor, partition_normal_equations(H, b, pcols_, acols_), threshold);
 	return true;
 }
 
-void PriorOnlyElimination::reduce(Problem& problem, FactorId prior_factor, const Eigen::MatrixXd& Hpp,
-								  const Eigen::MatrixXd& Hpa, Eigen::MatrixXd Haa, const Eigen::VectorXd& bp,
-								  const Eigen::VectorXd& ba, double threshold)
+void PriorOnlyElimination::reduce(Problem& problem, FactorId prior_factor, PartitionedNormalEquations s,
+								  double threshold)
 {
-	const Eigen::Index np = Hpp.rows(), na = Haa.rows();
-	// K = Hpp⁻¹ Hpa, k = Hpp⁻¹ bp: blocked Cholesky when Hpp is clearly positive definite (a landmark
-	// observed with range and bearing always is), else the thresholded pseudo-inverse swba::marginalize uses.
-	Eigen::LLT<Eigen::MatrixXd> llt(Hpp);
-	const Eigen::VectorXd piv = llt.matrixLLT().diagonal().cwiseAbs2();
-	const double pmax = piv.size() ? piv.maxCoeff() : 0.0;
-	if (llt.info() == Eigen::Success && pmax > 0 && piv.minCoeff() > threshold * pmax)
-	{
-		K_ = llt.solve(Hpa);
-		k_ = llt.solve(bp);
-	}
-	else
-	{
-		Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (Hpp + Hpp.transpose()));
-		const Eigen::VectorXd& ev = es.eigenvalues();
-		const double lmax = std::max(ev.maxCoeff(), 0.0);
-		Eigen::VectorXd inv = Eigen::VectorXd::Zero(np);
-		for (Eigen::Index i = 0; i < np; i++)
-			if (ev[i] > threshold * lmax && ev[i] > 0) inv[i] = 1.0 / ev[i];
-		const Eigen::MatrixXd Hpp_inv = es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
-		K_ = Hpp_inv * Hpa;
-		k_ = Hpp_inv * bp;
-	}
-
+	ConditionalElimination c = eliminate_conditional(std::move(s), threshold);
+	K_ = std::move(c.K);
+	k_ = std::move(c.k);
 	problem.remove_factor(prior_factor);
 	for (VariableId v : passive_) problem.set_constant(v, true);
-	if (na == 0) return;
-	Haa.noalias() -= Hpa.transpose() * K_;
-	const Eigen::VectorXd b_red = ba - Hpa.transpose() * k_;
-	const MarginalizationResult red = marginalize_leading(Haa, b_red, static_cast<int>(na), threshold);
+	const MarginalizationResult& red = c.marginal;
 	if (red.rank > 0)
 	{
 		std::vector<VariableId> avars;
@@ -258,53 +199,6 @@ DenseNormalSystem dense_normal_system(const Problem& problem, const std::vector<
 				if (slot[t] >= 0) out.H.block(slot[s], slot[t], cols[s], cols[t]).noalias() += jac[s].transpose() * jac[t];
 		}
 	}
-	return out;
-}
-MarginalizationResult marginalize_leading(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,
-										  double threshold)
-{
-	const int n = static_cast<int>(H.rows());
-	if (H.cols() != n || b.size() != n || num_keep < 0 || num_keep > n)
-		throw std::invalid_argument("marginalize_leading: H must be n×n, b n, 0 <= num_keep <= n");
-	const int nk = num_keep, nm = n - num_keep;
-	MarginalizationResult out;
-	if (nm > 0)
-	{
-		// H_mm⁻¹ through the thresholded eigen-decomposition, exactly as swba::marginalize (small block).
-		const Eigen::MatrixXd Hmm = H.bottomRightCorner(nm, nm);
-		Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (Hmm + Hmm.transpose()));
-		const Eigen::VectorXd& ev = es.eigenvalues();
-		const double lmax = std::max(ev.maxCoeff(), 0.0);
-		Eigen::VectorXd inv = Eigen::VectorXd::Zero(nm);
-		for (int i = 0; i < nm; i++)
-			if (ev[i] > threshold * lmax && ev[i] > 0) inv[i] = 1.0 / ev[i];
-		const Eigen::MatrixXd Hmm_inv = es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
-		const Eigen::MatrixXd K = H.topRightCorner(nk, nm) * Hmm_inv;
-		out.H = H.topLeftCorner(nk, nk);
-		out.H.noalias() -= K * H.topRightCorner(nk, nm).transpose();
-		out.b = b.head(nk) - K * b.tail(nm);
-	}
-	else
-	{
-		out.H = H;
-		out.b = b;
-	}
-	out.H = 0.5 * (out.H + out.H.transpose()).eval();
-	// Square root: a blocked Cholesky when H* is well conditioned, else (rank-deficient H*, e.g. anchor
-	// poses of inverse-depth landmarks, doc/window.md) the truncated pivoted LDLᵀ on the same H*.
-	const auto ldlt_form = [&] {
-		square_root_form(out, threshold);
-		return out;
-	};
-	if (nk == 0) return ldlt_form();
-	Eigen::LLT<Eigen::MatrixXd> llt(out.H);
-	if (llt.info() != Eigen::Success) return ldlt_form();
-	const Eigen::VectorXd piv = llt.matrixLLT().diagonal().cwiseAbs2();
-	if (!(piv.minCoeff() > threshold * piv.maxCoeff())) return ldlt_form();
-	// ½‖e + J δ‖² = ½ δᵀ H* δ − b*ᵀ δ + const with J = Lᵀ, Jᵀe = −b*: e = −L⁻¹ b*.
-	out.J = llt.matrixU();
-	out.e = -(llt.matrixL().solve(out.b));
-	out.rank = nk;
 	return out;
 }
 }  // namespace swba::estimators::detail

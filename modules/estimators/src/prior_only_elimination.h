@@ -51,8 +51,7 @@ class PriorOnlyElimination
 			   const std::vector<std::vector<double>>& x_lin, const std::function<bool(VariableId)>& eliminable,
 			   Eigen::Index total_cols);
 	/** Given the blocks of H and b: computes K, k, swaps the prior factor for the reduced one. */
-	void reduce(Problem& problem, FactorId prior_factor, const Eigen::MatrixXd& Hpp, const Eigen::MatrixXd& Hpa,
-				Eigen::MatrixXd Haa, const Eigen::VectorXd& bp, const Eigen::VectorXd& ba, double threshold);
+	void reduce(Problem& problem, FactorId prior_factor, PartitionedNormalEquations s, double threshold);
 
 	std::vector<int> pcols_, acols_;
 	std::vector<std::shared_ptr<const Manifold>> amanifolds_;
@@ -93,13 +92,4 @@ struct KnownPrior
 DenseNormalSystem dense_normal_system(const Problem& problem, const std::vector<VariableId>& order,
 									  const std::vector<FactorId>& factors, const KnownPrior& prior);
 
-/** swba::marginalize for keep = the first `num_keep` coordinates of (H, b) and marg = the rest, with the
- * square root from a blocked Cholesky (Eigen::LLT; J = Lᵀ upper triangular in the given order,
- * e = −L⁻¹ b*) when H* is clearly positive definite (every pivot L_ii² above threshold·max): the same
- * prior as swba::marginalize's pivoted LDLᵀ, faster on the dense priors of a SLAM window (hundreds of
- * unknowns; Eigen's LDLᵀ is unblocked). Otherwise (LLT fails or a pivot is tiny: a rank-deficient H*, e.g.
- * a free gauge or the anchor poses of inverse-depth landmarks, see doc/window.md) the square root is
- * swba::square_root_form's truncated pivoted LDLᵀ of the same H* (the Schur complement is not redone). */
-MarginalizationResult marginalize_leading(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,
-										  double threshold);
 }  // namespace swba::estimators::detail

@@ -487,7 +487,7 @@ struct SlidingWindowEstimator::Impl
 			known = {prior.factor, &prior.vars, &prior.x_lin, &prior.H, &prior.b};
 		const detail::DenseNormalSystem sys = detail::dense_normal_system(problem, order, flist, known);
 		const int nk = sys.offsets[keep.size()];
-		const MarginalizationResult m = detail::marginalize_leading(sys.H, sys.b, nk, opt.marginalization_threshold);
+		const MarginalizationResult m = marginalize_leading(sys.H, sys.b, nk, opt.marginalization_threshold);
 		// 4. Replace those factors and variables by the new prior.
 		Prior p;
 		p.J = m.J;
