@@ -45,18 +45,14 @@ void RangeBearingGraph::convert_to_world_xyz(Landmark& lm)
 	const Eigen::Vector3d lam_f = Eigen::Map<const Eigen::Vector3d>(smoother_.linearization_point(vl));
 	const Eigen::Vector3d p_f = inverse_depth_to_world(Ta_f, poses_[a].sensor, lam_f);
 	const RangeBearingXyzFactor h_of({1.0, 0.0, 0.0}, poses_[a].sensor);
-	VariableChange c;
 	VariableChange::PoseJacobian Ha;
+	VariableChange::PointJacobian Hp;
+	Eigen::Matrix3d D;
 	const double* xs[2] = {Ta_f, p_f.data()};
-	double* js[2] = {Ha.data(), c.H_new.data()};
-	if (!inverse_depth_jacobian(h_of, xs, js, c.D))
+	double* js[2] = {Ha.data(), Hp.data()};
+	if (!inverse_depth_jacobian(h_of, xs, js, D))
 		throw std::runtime_error("landmark " + std::to_string(lm.id) + ": range-bearing model undefined at its anchor");
-	c.old_var = vl;
-	c.new_var = vp;
-	c.new_x_lin = to_vector(p_lin);
-	c.first_estimate = to_vector(p_f);
-	c.H_poses = {{va, Ha}};
-	smoother_.change_prior_variable(c);
+	smoother_.change_prior_variable({vl, vp, to_vector(p_lin), to_vector(p_f), D, Hp, {{va, Ha}}});
 
 	lm.world_xyz = true;
 	replace_landmark_variable(lm, vp);
@@ -95,18 +91,14 @@ void RangeBearingGraph::reanchor(Landmark& lm, std::size_t b)
 		const Eigen::Vector3d lam_f = Eigen::Map<const Eigen::Vector3d>(smoother_.linearization_point(vl));
 		const Eigen::Vector3d lam2_f = reanchor_inverse_depth(Ta_f, sa, Tb_f, sb, lam_f);
 		const RangeBearingInverseDepthFactor h_of({1.0, 0.0, 0.0}, sa, sb);
-		VariableChange c;
 		VariableChange::PoseJacobian Ha, Hb;
+		VariableChange::PointJacobian Hl;
+		Eigen::Matrix3d D;
 		const double* xs[3] = {Tb_f, Ta_f, lam2_f.data()};
-		double* js[3] = {Hb.data(), Ha.data(), c.H_new.data()};
-		if (!inverse_depth_jacobian(h_of, xs, js, c.D))
+		double* js[3] = {Hb.data(), Ha.data(), Hl.data()};
+		if (!inverse_depth_jacobian(h_of, xs, js, D))
 			throw std::runtime_error("re-anchoring landmark " + std::to_string(lm.id) + ": model undefined");
-		c.old_var = vl;
-		c.new_var = vl2;
-		c.new_x_lin = to_vector(lam2_lin);
-		c.first_estimate = to_vector(lam2_f);
-		c.H_poses = {{va, Ha}, {vb, Hb}};
-		smoother_.change_prior_variable(c);
+		smoother_.change_prior_variable({vl, vl2, to_vector(lam2_lin), to_vector(lam2_f), D, Hl, {{va, Ha}, {vb, Hb}}});
 	}
 	lm.anchor_step = b;
 	replace_landmark_variable(lm, vl2);
