@@ -1,5 +1,5 @@
 # Installs the exported targets as a CMake package: find_package(swba) -> swba::<module>
-# (core linear nonlinear factors io eval estimators; swba::estimators pulls in all of them).
+# (core linear nonlinear factors smoother io eval estimators; swba::estimators pulls in all of them).
 include(CMakePackageConfigHelpers)
 include(GNUInstallDirs)
 set(SWBA_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/swba)

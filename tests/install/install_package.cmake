@@ -38,7 +38,7 @@ foreach(word ${forbidden})
 endforeach()
 
 # Every module is exported, each static library is installed.
-foreach(m core linear nonlinear factors io eval estimators)
+foreach(m core linear nonlinear factors smoother io eval estimators)
   string(FIND "${targets_text}" "add_library(swba::${m} STATIC IMPORTED)" pos)
   if(pos EQUAL -1)
     message(FATAL_ERROR "swba::${m} is not exported as a static imported library")

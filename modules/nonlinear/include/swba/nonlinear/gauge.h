@@ -1,5 +1,6 @@
 /** \file gauge.h
- * Gauge handling modes shared by the estimators (sliding window, mono BA). */
+ * Gauge handling modes of a problem whose cost is invariant under a global motion, shared by the
+ * estimators (sliding window, mono BA). */
 #pragma once
 
 #include <string>
