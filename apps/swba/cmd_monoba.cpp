@@ -80,13 +80,13 @@ int run_monoba_cmd(int argc, char** argv)
 		so.pose_noise_from = fix.getValue();
 		if (std::string why; !so.is_valid(&why)) throw std::invalid_argument(why);
 
-		mo.gauge = est::parse_gauge_mode(gauge.getValue());
+		mo.gauge = swba::parse_gauge_mode(gauge.getValue());
 		if (sweep.getValue() && (gauge.isSet() || prior_weight.isSet()))
 			throw std::invalid_argument("--sweep-prior-weights runs every gauge and weight: do not give --gauge or "
 										"--prior-weight");
-		if (!sweep.getValue() && mo.gauge == est::GaugeMode::Free && fix.isSet())
+		if (!sweep.getValue() && mo.gauge == swba::GaugeMode::Free && fix.isSet())
 			throw std::invalid_argument("--fix has no effect with --gauge free");
-		if (!sweep.getValue() && mo.gauge != est::GaugeMode::Prior && prior_weight.isSet())
+		if (!sweep.getValue() && mo.gauge != swba::GaugeMode::Prior && prior_weight.isSet())
 			throw std::invalid_argument("--prior-weight needs --gauge prior");
 		if (fix.getValue() < 1 || fix.getValue() > so.cameras)
 			throw std::invalid_argument("--fix " + std::to_string(fix.getValue()) + " is out of range [1, " +

@@ -88,7 +88,7 @@ struct RunCommandLine
 		if (policy.isSet()) o.policies = apps::parse_policy_list(policy.getValue());
 		if (fej.isSet()) o.fej = apps::parse_fej_list(fej.getValue());
 		if (landmarks.isSet()) o.window.landmarks = estimators::parse_landmark_parameterization(landmarks.getValue());
-		if (gauge.isSet()) o.window.gauge = estimators::parse_gauge_mode(gauge.getValue());
+		if (gauge.isSet()) o.window.gauge = parse_gauge_mode(gauge.getValue());
 		apply_noise(o);
 		if (max_steps.isSet())
 		{

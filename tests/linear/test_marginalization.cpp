@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <swba/linear/marginalization.h>
+#include <swba/linear/marginal.h>
 
 #include <Eigen/Dense>
 #include <random>
@@ -92,4 +92,64 @@ TEST(Marginalization, RejectsOverlappingIndexSets)
 	const Eigen::MatrixXd H = seed000_chain_H();
 	EXPECT_THROW(marginalize(H, Eigen::VectorXd::Zero(3), {0, 1}, {1}), std::invalid_argument);
 	EXPECT_THROW(marginalize(H, Eigen::VectorXd::Zero(3), {0, 5}, {1}), std::invalid_argument);
+}
+
+// marginalize_leading (the window's marginalisation) against swba::marginalize (the reference with the
+// eigen-decomposition and the pivoted LDLᵀ): the same prior, whether H* is positive definite (Cholesky
+// square root) or rank-deficient like an inverse-depth anchor pose (LDLᵀ square root of the same H*).
+namespace
+{
+void expect_same_prior(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep)
+{
+	const int n = static_cast<int>(H.rows());
+	std::vector<int> keep, marg;
+	for (int i = 0; i < n; i++) (i < num_keep ? keep : marg).push_back(i);
+	const auto ref = swba::marginalize(H, b, keep, marg);
+	const auto got = swba::marginalize_leading(H, b, num_keep, 1e-12);
+	const double scale = ref.H.norm();
+	EXPECT_EQ(got.rank, ref.rank);
+	EXPECT_LT((got.H - ref.H).norm(), 1e-10 * scale);
+	EXPECT_LT((got.b - ref.b).norm(), 1e-10 * std::max(1.0, ref.b.norm()));
+	// Same quadratic: JᵀJ = H* and Jᵀe = −b* (the square roots may differ by an orthogonal factor).
+	EXPECT_LT((got.J.transpose() * got.J - ref.H).norm(), 1e-9 * scale);
+	EXPECT_LT((got.J.transpose() * got.e + ref.b).norm(), 1e-9 * std::max(1.0, ref.b.norm()));
+}
+}  // namespace
+
+TEST(MarginalizeLeading, EqualsReferenceMarginalisationForFullRankAndAnchorPoseDeficientPriors)
+{
+	std::mt19937 rng(11);
+	std::normal_distribution<double> N(0, 1);
+	// Full rank: 12 kept + 6 marginalised coordinates, H = AᵀA with more rows than columns.
+	{
+		Eigen::MatrixXd A(30, 18);
+		for (int i = 0; i < A.rows(); i++)
+			for (int j = 0; j < A.cols(); j++) A(i, j) = N(rng);
+		Eigen::VectorXd b(18);
+		for (int i = 0; i < 18; i++) b[i] = N(rng);
+		expect_same_prior(A.transpose() * A, b, 12);
+	}
+	// Rank-deficient like an anchor pose a (6) with two landmarks (3 + 3) observed from the leaving
+	// pose o (6, marginalised): each observation constrains only 3 combinations of (a, landmark, o),
+	// so after eliminating o the prior over (a, l1, l2) has 12 − 6 = 6 null directions.
+	{
+		Eigen::MatrixXd A = Eigen::MatrixXd::Zero(6 + 6, 18);  // columns: a (0-5), l1 (6-8), l2 (9-11), o (12-17)
+		for (int k = 0; k < 2; k++)
+			for (int r = 0; r < 3; r++)
+			{
+				const int row = 3 * k + r;
+				for (int j = 0; j < 6; j++) A(row, j) = N(rng);
+				for (int j = 0; j < 3; j++) A(row, 6 + 3 * k + j) = N(rng);
+				for (int j = 0; j < 6; j++) A(row, 12 + j) = N(rng);
+			}
+		for (int r = 6; r < 12; r++)  // odometry-like rows on o only
+			A(r, 12 + (r - 6)) = 3.0;
+		Eigen::VectorXd r(12);
+		for (int i = 0; i < 12; i++) r[i] = N(rng);
+		const Eigen::VectorXd b = A.transpose() * r;
+		const Eigen::MatrixXd H = A.transpose() * A;
+		const auto got = swba::marginalize_leading(H, b, 12, 1e-12);
+		EXPECT_EQ(got.rank, 6);
+		expect_same_prior(H, b, 12);
+	}
 }

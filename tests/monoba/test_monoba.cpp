@@ -63,7 +63,7 @@ TEST(MonoBA, FixedGaugeKeepsAnchorPosesBitIdentical)
 	for (int K : {1, 2})
 	{
 		est::MonoBAOptions o;
-		o.gauge = est::GaugeMode::Fixed;
+		o.gauge = swba::GaugeMode::Fixed;
 		o.anchors = K;
 		auto mp = est::build_monoba_problem(scene, o);
 		std::vector<std::vector<double>> before;
@@ -90,7 +90,7 @@ TEST(MonoBA, FreeGaugeHessianHasSevenDimensionalNullSpace)
 	// their host camera, so the SE(3) part leaves them unchanged and the scale divides them by s.
 	const auto scene = est::make_monoba_scene(noisy_pose_scene());
 	est::MonoBAOptions o;
-	o.gauge = est::GaugeMode::Free;
+	o.gauge = swba::GaugeMode::Free;
 	auto mp = est::build_monoba_problem(scene, o);
 	const auto s = swba::solve(mp.problem, o.solver);
 	ASSERT_TRUE(s.is_solution_usable()) << s.message;
@@ -169,7 +169,7 @@ TEST(MonoBA, FixingPosesRemovesTheNullSpace)
 	for (int K : {1, 2})
 	{
 		est::MonoBAOptions o;
-		o.gauge = est::GaugeMode::Fixed;
+		o.gauge = swba::GaugeMode::Fixed;
 		o.anchors = K;
 		auto mp = est::build_monoba_problem(scene, o);
 		swba::solve(mp.problem, o.solver);
@@ -184,7 +184,7 @@ TEST(MonoBA, PriorApproachesFixedAsWeightGrows)
 {
 	const auto scene = est::make_monoba_scene(noisy_pose_scene());
 	est::MonoBAOptions fixed;
-	fixed.gauge = est::GaugeMode::Fixed;
+	fixed.gauge = swba::GaugeMode::Fixed;
 	fixed.solver = tight_solver();
 	const auto ref = est::run_monoba(scene, fixed);
 	ASSERT_TRUE(ref.summary.is_solution_usable());
@@ -196,7 +196,7 @@ TEST(MonoBA, PriorApproachesFixedAsWeightGrows)
 	for (double W : {1e2, 1e4, 1e6, 1e8, 1e10, 1e12})
 	{
 		est::MonoBAOptions o = fixed;
-		o.gauge = est::GaugeMode::Prior;
+		o.gauge = swba::GaugeMode::Prior;
 		o.prior_weight = W;
 		const auto r = est::run_monoba(scene, o);
 		ASSERT_TRUE(r.summary.is_solution_usable()) << "W = " << W << ": " << r.summary.message;
@@ -325,13 +325,13 @@ TEST(MonoBA, InvalidOptionsAreRejected)
 	so = {};
 	so.noise = -1;
 	EXPECT_THROW(est::make_monoba_scene(so), std::invalid_argument);
-	EXPECT_THROW(est::parse_gauge_mode("loose"), std::invalid_argument);
+	EXPECT_THROW(swba::parse_gauge_mode("loose"), std::invalid_argument);
 	const auto scene = est::make_monoba_scene({});
 	est::MonoBAOptions o;
 	o.anchors = 4;  // > 3 cameras
 	EXPECT_THROW(est::build_monoba_problem(scene, o), std::invalid_argument);
 	o = {};
-	o.gauge = est::GaugeMode::Prior;
+	o.gauge = swba::GaugeMode::Prior;
 	o.prior_weight = -1;
 	EXPECT_THROW(est::build_monoba_problem(scene, o), std::invalid_argument);
 	est::SweepOptions sw;

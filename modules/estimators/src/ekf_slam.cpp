@@ -20,85 +20,82 @@ double process_cpu_seconds()
 	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
 	return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
-}  // namespace
 
-int ekf_method_from_name(const std::string& name)
+/** Throws unless v is finite and > 0; returns v. */
+double checked_positive(double v, const char* what)
 {
-	static const char* names[] = {"kfEKFNaive", "kfEKFAlaDavison", "kfIKFFull", "kfIKF"};
-	for (int i = 0; i < 4; i++)
-		if (name == names[i] || name == std::to_string(i)) return i;
-	throw std::invalid_argument(
-		"unknown EKF method '" + name + "' (valid: kfEKFNaive, kfEKFAlaDavison, kfIKFFull, kfIKF)");
+	if (!(v > 0) || !std::isfinite(v))
+		throw std::invalid_argument(std::string("EKF option ") + what + " must be finite and > 0");
+	return v;
 }
 
-EkfSlamResult run_ekf_slam(const std::vector<io::RawlogStep>& steps, const EkfSlamOptions& options)
+/** The filter's options before the overrides: the INI file if given, else kfEKFAlaDavison with the
+ * sensor noise of the first step that has a bearing-range observation (a zero std there keeps MRPT's
+ * default and is noted in res.notes). */
+void load_base_options(mrpt::slam::CRangeBearingKFSLAM& ekf, const std::vector<io::RawlogStep>& steps,
+					   const EkfSlamOptions& options, EkfSlamResult& res)
 {
-	using mrpt::bayes::TKFMethod;
-	EkfSlamResult res;
-	if (steps.empty()) throw std::invalid_argument("run_ekf_slam: no steps");
-	const std::size_t n = options.max_steps ? std::min(options.max_steps, steps.size()) : steps.size();
-	res.steps_total = n;
-
-	mrpt::slam::CRangeBearingKFSLAM ekf;
 	if (!options.ini_file.empty())
 	{
 		if (!mrpt::system::fileExists(options.ini_file))
 			throw std::runtime_error("EKF INI file '" + options.ini_file + "' does not exist");
 		ekf.loadOptions(mrpt::config::CConfigFile(options.ini_file));
+		return;
 	}
-	else
-	{
-		ekf.KF_options.method = TKFMethod::kfEKFAlaDavison;
-		const io::RawlogStep* with_obs = nullptr;
-		for (const auto& s : steps)
-			if (s.has_observation)
-			{
-				with_obs = &s;
-				break;
-			}
-		if (with_obs)
+	ekf.KF_options.method = mrpt::bayes::TKFMethod::kfEKFAlaDavison;
+	const io::RawlogStep* with_obs = nullptr;
+	for (const auto& s : steps)
+		if (s.has_observation)
 		{
-			// A zero std means "not given" (2D sensors have sensor_std_pitch = 0): keep MRPT's default.
-			auto take = [&res](double v, float& dst, const char* name) {
-				if (v > 0)
-					dst = static_cast<float>(v);
-				else
-					res.notes += std::string(res.notes.empty() ? "" : "; ") + "the observation's " + name +
-						" is 0: MRPT's default kept";
-			};
-			take(with_obs->sensor_std_range, ekf.options.std_sensor_range, "sensor_std_range");
-			take(with_obs->sensor_std_yaw, ekf.options.std_sensor_yaw, "sensor_std_yaw");
-			take(with_obs->sensor_std_pitch, ekf.options.std_sensor_pitch, "sensor_std_pitch");
+			with_obs = &s;
+			break;
 		}
-	}
-	if (options.method) ekf.KF_options.method = static_cast<TKFMethod>(ekf_method_from_name(*options.method));
-	auto check = [](double v, const char* what) {
-		if (!(v > 0) || !std::isfinite(v))
-			throw std::invalid_argument(std::string("EKF option ") + what + " must be finite and > 0");
-		return v;
+	if (!with_obs) return;
+	// A zero std means "not given" (2D sensors have sensor_std_pitch = 0): keep MRPT's default.
+	auto take = [&res](double v, float& dst, const char* name) {
+		if (v > 0)
+			dst = static_cast<float>(v);
+		else
+			res.notes += std::string(res.notes.empty() ? "" : "; ") + "the observation's " + name +
+				" is 0: MRPT's default kept";
 	};
-	if (options.std_range_m) ekf.options.std_sensor_range = static_cast<float>(check(*options.std_range_m, "std_range_m"));
+	take(with_obs->sensor_std_range, ekf.options.std_sensor_range, "sensor_std_range");
+	take(with_obs->sensor_std_yaw, ekf.options.std_sensor_yaw, "sensor_std_yaw");
+	take(with_obs->sensor_std_pitch, ekf.options.std_sensor_pitch, "sensor_std_pitch");
+}
+
+/** The explicit options over the INI / defaults, validated; the values used are recorded in `res`. */
+void apply_overrides(mrpt::slam::CRangeBearingKFSLAM& ekf, const EkfSlamOptions& options, EkfSlamResult& res)
+{
+	using mrpt::bayes::TKFMethod;
+	if (options.method) ekf.KF_options.method = static_cast<TKFMethod>(ekf_method_from_name(*options.method));
+	if (options.std_range_m)
+		ekf.options.std_sensor_range = static_cast<float>(checked_positive(*options.std_range_m, "std_range_m"));
 	if (options.std_yaw_deg)
-		ekf.options.std_sensor_yaw = static_cast<float>(mrpt::DEG2RAD(check(*options.std_yaw_deg, "std_yaw_deg")));
+		ekf.options.std_sensor_yaw = static_cast<float>(mrpt::DEG2RAD(checked_positive(*options.std_yaw_deg, "std_yaw_deg")));
 	if (options.std_pitch_deg)
 		ekf.options.std_sensor_pitch =
-			static_cast<float>(mrpt::DEG2RAD(check(*options.std_pitch_deg, "std_pitch_deg")));
+			static_cast<float>(mrpt::DEG2RAD(checked_positive(*options.std_pitch_deg, "std_pitch_deg")));
 	if (options.std_odo_z_additional_m)
 	{
 		if (!(*options.std_odo_z_additional_m >= 0))
 			throw std::invalid_argument("EKF option std_odo_z_additional_m must be >= 0");
 		ekf.options.std_odo_z_additional = static_cast<float>(*options.std_odo_z_additional_m);
 	}
-	check(ekf.options.std_sensor_range, "std_range_m");
-	check(ekf.options.std_sensor_yaw, "std_yaw_deg");
-	check(ekf.options.std_sensor_pitch, "std_pitch_deg");
+	checked_positive(ekf.options.std_sensor_range, "std_range_m");
+	checked_positive(ekf.options.std_sensor_yaw, "std_yaw_deg");
+	checked_positive(ekf.options.std_sensor_pitch, "std_pitch_deg");
 
 	res.method = mrpt::typemeta::TEnumType<TKFMethod>::value2name(ekf.KF_options.method);
 	res.std_range_m = ekf.options.std_sensor_range;
 	res.std_yaw_deg = mrpt::RAD2DEG(double(ekf.options.std_sensor_yaw));
 	res.std_pitch_deg = mrpt::RAD2DEG(double(ekf.options.std_sensor_pitch));
+}
 
-	// Silence: no console logging, no profiler table; warnings are counted through a callback.
+/** Silence (no console logging, no profiler table) unless verbose; warnings are counted in `res`
+ * through a callback, so `res` must outlive the filter. */
+void route_mrpt_log(mrpt::slam::CRangeBearingKFSLAM& ekf, const EkfSlamOptions& options, EkfSlamResult& res)
+{
 	if (!options.mrpt_verbose)
 	{
 		ekf.logging_enable_console_output = false;
@@ -110,7 +107,13 @@ EkfSlamResult run_ekf_slam(const std::vector<io::RawlogStep>& steps, const EkfSl
 		if (level < mrpt::system::LVL_WARN) return;
 		if (res.mrpt_warnings++ == 0) res.first_mrpt_warning = io::mrpt_exception_summary(std::string(msg));
 	});
+}
 
+/** Feeds the first n steps to the filter, recording each pose and the time spent inside
+ * processActionObservation; stops at (and records) the first failure. */
+void process_steps(mrpt::slam::CRangeBearingKFSLAM& ekf, const std::vector<io::RawlogStep>& steps, std::size_t n,
+				   const EkfSlamOptions& options, EkfSlamResult& res)
+{
 	res.times.reserve(n);
 	res.poses.reserve(n);
 	double seconds = 0, cpu_seconds = 0;
@@ -127,22 +130,24 @@ EkfSlamResult run_ekf_slam(const std::vector<io::RawlogStep>& steps, const EkfSl
 		}
 		const auto t0 = std::chrono::steady_clock::now();
 		const double c0 = process_cpu_seconds();
+		const auto add_time = [&] {
+			seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+			cpu_seconds += process_cpu_seconds() - c0;
+		};
 		try
 		{
 			ekf.processActionObservation(acts, sf);
 		}
 		catch (const std::exception& e)
 		{
-			seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-			cpu_seconds += process_cpu_seconds() - c0;
+			add_time();
 			res.failed = true;
 			res.failed_step = k;
 			res.failure = io::mrpt_exception_summary(e.what());
 			res.failure_details = e.what();
 			break;
 		}
-		seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-		cpu_seconds += process_cpu_seconds() - c0;
+		add_time();
 		res.times.push_back(steps[k].time());
 		res.poses.emplace_back(ekf.getCurrentRobotPoseMean());
 		res.steps_processed++;
@@ -152,6 +157,30 @@ EkfSlamResult run_ekf_slam(const std::vector<io::RawlogStep>& steps, const EkfSl
 	res.ms_per_step = res.steps_processed ? 1e3 * seconds / double(res.steps_processed) : 0.0;
 	res.cpu_seconds = cpu_seconds;
 	res.cpu_ms_per_step = res.steps_processed ? 1e3 * cpu_seconds / double(res.steps_processed) : 0.0;
+}
+}  // namespace
+
+int ekf_method_from_name(const std::string& name)
+{
+	static const char* names[] = {"kfEKFNaive", "kfEKFAlaDavison", "kfIKFFull", "kfIKF"};
+	for (int i = 0; i < 4; i++)
+		if (name == names[i] || name == std::to_string(i)) return i;
+	throw std::invalid_argument(
+		"unknown EKF method '" + name + "' (valid: kfEKFNaive, kfEKFAlaDavison, kfIKFFull, kfIKF)");
+}
+
+EkfSlamResult run_ekf_slam(const std::vector<io::RawlogStep>& steps, const EkfSlamOptions& options)
+{
+	EkfSlamResult res;
+	if (steps.empty()) throw std::invalid_argument("run_ekf_slam: no steps");
+	const std::size_t n = options.max_steps ? std::min(options.max_steps, steps.size()) : steps.size();
+	res.steps_total = n;
+
+	mrpt::slam::CRangeBearingKFSLAM ekf;
+	load_base_options(ekf, steps, options, res);
+	apply_overrides(ekf, options, res);
+	route_mrpt_log(ekf, options, res);
+	process_steps(ekf, steps, n, options, res);
 	res.landmarks = ekf.getNumberOfLandmarksInTheMap();
 	return res;
 }

@@ -199,7 +199,7 @@ const std::vector<RunConfigKey>& run_config_key_table()
 		 [](const S& v, RunOptions& o) { o.window.landmarks = estimators::parse_landmark_parameterization(v); },
 		 [](const RunOptions& o) { return to_string(o.window.landmarks); }},
 		{"window", "gauge", "fixed|free|prior", "gauge: first pose fixed, free, or an SE(3) prior on it",
-		 [](const S& v, RunOptions& o) { o.window.gauge = estimators::parse_gauge_mode(v); },
+		 [](const S& v, RunOptions& o) { o.window.gauge = parse_gauge_mode(v); },
 		 [](const RunOptions& o) { return to_string(o.window.gauge); }},
 		{"window", "gauge_prior_weight", "1/(m^2 or rad^2)", "information of the gauge prior (gauge = prior only)",
 		 [](const S& v, RunOptions& o) { o.window.gauge_prior_weight = parse_positive(v); },

@@ -20,11 +20,11 @@
 #include <string>
 #include <vector>
 
-#include <swba/estimators/gauge.h>
+#include <swba/nonlinear/gauge.h>
 
 namespace swba::estimators
 {
-// GaugeMode, parse_gauge_mode, to_string(GaugeMode): swba/estimators/gauge.h (shared with the window).
+// GaugeMode, parse_gauge_mode, to_string(GaugeMode): swba/nonlinear/gauge.h (shared with the window).
 
 struct MonoBASceneOptions
 {

@@ -1,8 +1,9 @@
 /** \file sliding_window.h
  * Sliding-window estimator for range-bearing SLAM on MRPT rawlogs (odometry + landmark observations),
  * with marginalisation of the oldest pose into a linearised prior (J, e, x_lin), first-estimate
- * Jacobians, inverse-depth (or XYZ) landmarks and two landmark policies. The batch estimator is the
- * same machinery with an unbounded window, solved once at the end.
+ * Jacobians, inverse-depth (or XYZ) landmarks and two landmark policies, on the sensor-free fixed-lag
+ * machinery of swba/smoother/fixed_lag_smoother.h. The batch estimator is the same factor graph with
+ * an unbounded window, solved once at the end.
  *
  * Typical use (an online loop):
  * \code
@@ -15,9 +16,9 @@
  * \endcode */
 #pragma once
 
-#include <swba/estimators/gauge.h>
 #include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
+#include <swba/nonlinear/gauge.h>
 #include <swba/nonlinear/solver.h>
 
 #include <cstdint>
@@ -25,6 +26,15 @@
 #include <memory>
 #include <string>
 #include <vector>
+
+namespace swba::smoother
+{
+class FixedLagSmoother;
+}
+namespace swba::test
+{
+class SlidingWindowInspector;
+}
 
 namespace swba::estimators
 {
@@ -144,20 +154,16 @@ class SlidingWindowEstimator
 	const std::vector<StepSummary>& step_summaries() const;
 	const SlidingWindowOptions& options() const;
 
-	/** @name For tests: the last marginal prior's information H = JᵀJ over its variables, and the
-	 * ordering of its variables as (time of the pose or −1, landmark ID or −1).
-	 * @{ */
-	Eigen::MatrixXd prior_information() const;
-	std::vector<std::pair<double, std::int32_t>> prior_variables() const;
-	/** Stacked 6 global SE(3) gauge directions (columns) in the prior's tangent coordinates,
-	 * evaluated at the prior's linearisation point (x_lin / first estimates). */
-	Eigen::MatrixXd prior_gauge_directions() const;
-	/** @} */
-
    private:
 	struct Impl;
 	std::unique_ptr<Impl> impl_;
-	friend struct BatchResult run_batch(const io::Rawlog&, const SlidingWindowOptions&, int);
+	/** White-box checks of the marginal prior (tests/window) read the smoother and the landmark
+	 * parameterisation through the two accessors below. */
+	friend class swba::test::SlidingWindowInspector;
+	const smoother::FixedLagSmoother& smoother() const;
+	/** Whether landmark variable `v` holds a world point (XYZ, or switched to world XYZ) rather than an
+	 * anchor-relative inverse depth. */
+	bool is_world_point(VariableId v) const;
 };
 
 /** Result of run_batch(). */

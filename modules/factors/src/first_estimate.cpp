@@ -1,8 +1,8 @@
-#include <swba/estimators/first_estimate.h>
+#include <swba/factors/first_estimate.h>
 
 #include <vector>
 
-namespace swba::estimators
+namespace swba
 {
 FirstEstimateFactor::FirstEstimateFactor(std::shared_ptr<const Factor> inner, std::vector<VariableId> variables,
 										 std::shared_ptr<const FirstEstimateRegistry> registry)
@@ -49,4 +49,4 @@ bool FirstEstimateFactor::evaluate(const double* const* x, double* residual, dou
 	}
 	return inner_->evaluate(xf, scratch, jacobians);
 }
-}  // namespace swba::estimators
+}  // namespace swba

@@ -13,7 +13,7 @@
 #include <memory>
 #include <vector>
 
-namespace swba::estimators
+namespace swba
 {
 /** Frozen linearisation points by variable. */
 using FirstEstimateRegistry = std::map<VariableId, std::vector<double>>;
@@ -32,4 +32,4 @@ class FirstEstimateFactor final : public Factor
 	std::vector<VariableId> variables_;
 	std::shared_ptr<const FirstEstimateRegistry> registry_;
 };
-}  // namespace swba::estimators
+}  // namespace swba

@@ -1,10 +1,11 @@
 /** \file gauge.h
- * Gauge handling modes shared by the estimators (sliding window, mono BA). */
+ * Gauge handling modes of a problem whose cost is invariant under a global motion, shared by the
+ * estimators (sliding window, mono BA). */
 #pragma once
 
 #include <string>
 
-namespace swba::estimators
+namespace swba
 {
 /** How an estimator removes or damps the gauge freedom of its problem. */
 enum class GaugeMode
@@ -17,4 +18,4 @@ enum class GaugeMode
 /** Parses "free", "fixed", "prior"; throws std::invalid_argument otherwise. */
 GaugeMode parse_gauge_mode(const std::string& name);
 std::string to_string(GaugeMode mode);
-}  // namespace swba::estimators
+}  // namespace swba

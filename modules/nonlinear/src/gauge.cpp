@@ -1,8 +1,8 @@
-#include <swba/estimators/gauge.h>
+#include <swba/nonlinear/gauge.h>
 
 #include <stdexcept>
 
-namespace swba::estimators
+namespace swba
 {
 GaugeMode parse_gauge_mode(const std::string& name)
 {
@@ -22,4 +22,4 @@ std::string to_string(GaugeMode mode)
 	}
 	return "?";
 }
-}  // namespace swba::estimators
+}  // namespace swba

@@ -1,0 +1,122 @@
+/** \file fixed_lag_smoother.h
+ * Sensor-free fixed-lag smoothing over a factor graph (GTSAM's FixedLagSmoother / BatchFixedLagSmoother
+ * are the model of the split): a Problem (factors + values), the time-ordered states of the window, a
+ * marginal prior standing for everything marginalised, and first-estimate Jacobians that keep the
+ * prior and the factors linearised at one point per state. What a state or a landmark is, which
+ * variables leave with the oldest state and how measurements become factors is the caller's business
+ * (e.g. swba/estimators/sliding_window.h for range-bearing SLAM).
+ *
+ * Three ways to run the same machinery, through this API only:
+ *   - fixed lag: after adding each state and its factors, update() (one LM solve), then, while
+ *     over_lag(), marginalize_oldest();
+ *   - full history (lag 0): update() after every state, nothing marginalised (the causal optimum);
+ *   - batch (lag 0): add everything, then one solve() at the end.
+ *
+ * \code
+ *   swba::smoother::FixedLagSmoother sm(options);           // options.lag = W
+ *   VariableId x = sm.problem().add_pose(guess);
+ *   sm.add_state(t, x);
+ *   sm.add_factor(odometry, {previous, x});
+ *   sm.update(is_landmark);
+ *   if (sm.over_lag()) sm.marginalize_oldest({});
+ * \endcode */
+#pragma once
+
+#include <swba/factors/first_estimate.h>
+#include <swba/nonlinear/problem.h>
+#include <swba/nonlinear/solver.h>
+#include <swba/smoother/marginal_prior.h>
+
+#include <deque>
+#include <functional>
+#include <memory>
+#include <set>
+#include <vector>
+
+namespace swba::smoother
+{
+struct FixedLagSmootherOptions
+{
+	/** States kept in the window (≥ 2); 0 = unbounded (nothing is marginalised). Default 0. */
+	int lag = 0;
+	/** Evaluate every factor touching a variable in the prior at that variable's first estimate
+	 * (factors are wrapped in FirstEstimateFactor). Default true. */
+	bool first_estimate_jacobians = true;
+	/** Relative pivot threshold of the marginal prior (see swba::marginalize). Default 1e-12. */
+	double marginalization_threshold = 1e-12;
+	/** In update(), hold the variables only the prior touches out of the LM solve and set them to their
+	 * conditional optimum afterwards (same optimum, a smaller dense system). Default true. */
+	bool eliminate_prior_only = true;
+	/** LM options of update(). */
+	SolverOptions solver;
+};
+
+/** A state of the window: a variable and its time. */
+struct TimedState
+{
+	double time = 0;
+	VariableId var = -1;
+};
+
+/** What update() did. */
+struct UpdateSummary
+{
+	Summary solver;
+	int prior_only_eliminated = 0;  ///< variables held out of the solve (eliminate_prior_only)
+};
+
+class FixedLagSmoother
+{
+   public:
+	/** Does not validate `options` (the caller's options do). */
+	explicit FixedLagSmoother(const FixedLagSmootherOptions& options);
+
+	const FixedLagSmootherOptions& options() const { return opt_; }
+	/** The factors and values. Add variables directly; add factors through add_factor(). */
+	Problem& problem() { return problem_; }
+	const Problem& problem() const { return problem_; }
+
+	/** Adds a factor, wrapped in a FirstEstimateFactor when first-estimate Jacobians are on. */
+	FactorId add_factor(std::shared_ptr<const Factor> factor, std::vector<VariableId> variables);
+	/** Appends `var` at `time` as the newest state of the window. */
+	void add_state(double time, VariableId var);
+	/** The window's states, oldest first. */
+	const std::deque<TimedState>& states() const { return states_; }
+	/** True when lag > 0 and the window holds more states than the lag: marginalize_oldest() is due. */
+	bool over_lag() const;
+
+	/** Freezes v's first estimate at its current value (FEJ on, v not constant and not yet frozen). */
+	void freeze(VariableId v);
+	/** v's first estimate, or its current value when it has none (FEJ off or not yet frozen). */
+	const double* linearization_point(VariableId v) const;
+	/** Removes variable v (and its factors) from the problem, and its first estimate. */
+	void remove_variable(VariableId v);
+
+	const MarginalPrior& prior() const { return prior_; }
+	/** Freezes `v` and brings it into the prior (zero columns) if absent: a change of variables is
+	 * about to make the prior depend on it. Returns its index in prior().variables(). */
+	int include_in_prior(VariableId v);
+	/** Applies `change` to the prior (MarginalPrior::change_variable), records the new variable's first
+	 * estimate (FEJ on) and re-installs the prior's factor. */
+	void change_prior_variable(const VariableChange& change);
+
+	/** One LM solve of the window with options().solver; with eliminate_prior_only, the variables that
+	 * satisfy `eliminable` and have no factor but the prior are eliminated from it exactly. */
+	UpdateSummary update(const std::function<bool(VariableId)>& eliminable);
+	/** One LM solve of the whole problem with `options` (no elimination): the batch run. */
+	Summary solve(const SolverOptions& options);
+
+	/** Marginalises the oldest state together with `also` (variables leaving with it): the factors
+	 * touching them are linearised (the prior from its known information) at the first estimates,
+	 * the marginal over the variables they connect to replaces them as the new prior, and the
+	 * variables are removed. Returns the removed factors. */
+	std::set<FactorId> marginalize_oldest(const std::set<VariableId>& also);
+
+   private:
+	FixedLagSmootherOptions opt_;
+	Problem problem_;
+	std::shared_ptr<FirstEstimateRegistry> first_estimates_ = std::make_shared<FirstEstimateRegistry>();
+	std::deque<TimedState> states_;
+	MarginalPrior prior_;
+};
+}  // namespace swba::smoother

@@ -1,0 +1,97 @@
+/** \file marginal_prior.h
+ * The marginal prior of a fixed-lag smoother: what is left of the marginalised states, kept as the
+ * linearised residual r = e + J (x ⊟ x_lin) over the variables they were connected to (VINS-Mono /
+ * basalt style; in the problem as one LinearPriorFactor), together with its information H = JᵀJ,
+ * b = −Jᵀe (the Schur complement it came from) while that is known, so that the next marginalisation
+ * and the prior-only elimination need not form JᵀJ over the whole prior again. */
+#pragma once
+
+#include <swba/linear/marginal.h>
+#include <swba/nonlinear/problem.h>
+
+#include <Eigen/Core>
+#include <utility>
+#include <vector>
+
+namespace swba::smoother
+{
+/** A first-order change of variables in the prior: the prior variable `old_var` (a Euclidean 3-vector)
+ * is replaced by `new_var`, the two related around the linearisation point by x_old = φ(h(x_new, y_1, …))
+ * with the SE(3) variables y_i. The Jacobians are given as the model produces them: D = ∂φ/∂h and the
+ * Jacobians of h with respect to x_new and each y_i; the prior's columns become
+ * J_old ← (J_old D) H_new and J_{y_i} += (J_old D) H_i. */
+struct VariableChange
+{
+	using PointJacobian = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+	using PoseJacobian = Eigen::Matrix<double, 3, 6, Eigen::RowMajor>;
+
+	VariableId old_var = -1;
+	VariableId new_var = -1;
+	std::vector<double> new_x_lin;        ///< x_new at the prior's linearisation point
+	std::vector<double> first_estimate;   ///< x_new where the Jacobians were evaluated (its first estimate)
+	Eigen::Matrix3d D;
+	PointJacobian H_new;
+	/** (y_i, ∂h/∂y_i), each y_i already in the prior; the prior's columns are updated in this order. */
+	std::vector<std::pair<VariableId, PoseJacobian>> H_poses;
+};
+
+class MarginalPrior
+{
+   public:
+	/** True while the prior's factor is in the problem (a non-empty prior outside a solve). */
+	bool installed() const { return factor_ >= 0; }
+	FactorId factor() const { return factor_; }
+	const std::vector<VariableId>& variables() const { return vars_; }
+	const Eigen::MatrixXd& J() const { return J_; }
+	const Eigen::VectorXd& e() const { return e_; }
+	/** Ambient value of each variable at which the prior was linearised. */
+	const std::vector<std::vector<double>>& linearization_points() const { return x_lin_; }
+	/** Whether H() and b() hold JᵀJ and −Jᵀe (true from a marginalisation on). */
+	bool has_information() const { return has_information_; }
+	const Eigen::MatrixXd& H() const { return H_; }
+	const Eigen::VectorXd& b() const { return b_; }
+	/** Rows of J (0: no prior). */
+	int rank() const { return static_cast<int>(J_.rows()); }
+
+	/** Position of `v` in variables(), −1 if it is not in the prior. O(variables). */
+	int index_of(VariableId v) const;
+	/** First column of variable `index` in J (tangent sizes from the problem). */
+	int column_of(const Problem& problem, int index) const;
+
+	/** Replaces the prior by the marginal `m` over `vars` (linearised at their current values in the
+	 * problem, information known) and installs its factor; the previous factor, if still installed,
+	 * is removed. A zero-rank `m` leaves the prior empty. */
+	void reset(Problem& problem, std::vector<VariableId> vars, MarginalizationResult m);
+	/** Empties the prior; its factor, if any, must already be gone from the problem. */
+	void clear();
+	/** Removes the prior's factor from the problem (the prior itself is kept). */
+	void uninstall(Problem& problem);
+	/** (Re)builds the prior's factor from J, e, x_lin and adds it to the problem, removing the old one if
+	 * installed; an empty prior (no variables or rank 0) is cleared instead. */
+	void install(Problem& problem);
+	/** Marks the factor as removed by the caller (it was among the factors of a marginalisation). */
+	void forget_factor() { factor_ = -1; }
+
+	/** Adds `v` with zero columns (x_lin = its current value) if absent; returns its index. H and b
+	 * (when known) are extended with zeros: the new columns of J are zero. */
+	int add_variable(const Problem& problem, VariableId v);
+	/** The one change-of-variables routine (see VariableChange): rewrites J's columns, refreshes the
+	 * same rows/columns of H and entries of b, and replaces old_var by new_var with x_lin = new_x_lin.
+	 * Does not touch the problem: call install() afterwards. */
+	void change_variable(const Problem& problem, const VariableChange& change);
+
+   private:
+	/** After J's columns [c0, c0 + n) were rewritten: recomputes the same rows/columns of H = JᵀJ and
+	 * entries of b = −Jᵀe (O(rank·cols·n), not a new JᵀJ). */
+	void refresh_information(int c0, int n);
+
+	FactorId factor_ = -1;
+	std::vector<VariableId> vars_;
+	Eigen::MatrixXd J_;
+	Eigen::VectorXd e_;
+	std::vector<std::vector<double>> x_lin_;
+	Eigen::MatrixXd H_;
+	Eigen::VectorXd b_;
+	bool has_information_ = false;
+};
+}  // namespace swba::smoother

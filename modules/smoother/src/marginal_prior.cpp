@@ -1,0 +1,112 @@
+#include <swba/smoother/marginal_prior.h>
+
+#include <swba/factors/linear_prior.h>
+
+#include <algorithm>
+#include <memory>
+
+namespace swba::smoother
+{
+int MarginalPrior::index_of(VariableId v) const
+{
+	auto it = std::find(vars_.begin(), vars_.end(), v);
+	return it == vars_.end() ? -1 : static_cast<int>(it - vars_.begin());
+}
+
+int MarginalPrior::column_of(const Problem& problem, int index) const
+{
+	int off = 0;
+	for (int i = 0; i < index; i++) off += problem.variable(vars_[i]).manifold->tangent_size();
+	return off;
+}
+
+void MarginalPrior::reset(Problem& problem, std::vector<VariableId> vars, MarginalizationResult m)
+{
+	if (m.rank == 0)
+	{
+		clear();
+		return;
+	}
+	std::vector<std::vector<double>> x_lin;
+	for (VariableId v : vars) x_lin.push_back(problem.variable(v).value);
+	if (installed()) problem.remove_factor(factor_);
+	factor_ = -1;
+	vars_ = std::move(vars);
+	J_ = std::move(m.J);
+	e_ = std::move(m.e);
+	x_lin_ = std::move(x_lin);
+	H_ = std::move(m.H);
+	b_ = std::move(m.b);
+	has_information_ = true;
+	install(problem);
+}
+
+void MarginalPrior::clear() { *this = MarginalPrior(); }
+
+void MarginalPrior::uninstall(Problem& problem)
+{
+	if (installed()) problem.remove_factor(factor_);
+	factor_ = -1;
+}
+
+void MarginalPrior::install(Problem& problem)
+{
+	uninstall(problem);
+	if (vars_.empty() || J_.rows() == 0)
+	{
+		clear();
+		return;
+	}
+	std::vector<std::shared_ptr<const Manifold>> manifolds;
+	for (VariableId v : vars_) manifolds.push_back(problem.variable(v).manifold);
+	factor_ = problem.add_factor(std::make_shared<LinearPriorFactor>(J_, e_, x_lin_, manifolds), vars_);
+}
+
+int MarginalPrior::add_variable(const Problem& problem, VariableId v)
+{
+	const int idx = index_of(v);
+	if (idx >= 0) return idx;
+	const int n = problem.variable(v).manifold->tangent_size();
+	Eigen::MatrixXd J(J_.rows(), J_.cols() + n);
+	J << J_, Eigen::MatrixXd::Zero(J_.rows(), n);
+	if (has_information_)
+	{
+		// The new columns of J are zero: so are the new rows and columns of H and entries of b.
+		const Eigen::Index m = H_.rows();
+		H_.conservativeResize(m + n, m + n);
+		H_.rightCols(n).setZero();
+		H_.bottomRows(n).setZero();
+		b_.conservativeResize(m + n);
+		b_.tail(n).setZero();
+	}
+	J_ = J;
+	vars_.push_back(v);
+	x_lin_.push_back(problem.variable(v).value);
+	return static_cast<int>(vars_.size()) - 1;
+}
+
+void MarginalPrior::refresh_information(int c0, int n)
+{
+	if (!has_information_) return;
+	const Eigen::MatrixXd cols = J_.transpose() * J_.middleCols(c0, n);
+	H_.middleCols(c0, n) = cols;
+	H_.middleRows(c0, n) = cols.transpose();
+	b_.segment(c0, n) = -(J_.middleCols(c0, n).transpose() * e_);
+}
+
+void MarginalPrior::change_variable(const Problem& problem, const VariableChange& change)
+{
+	const int idx = index_of(change.old_var);
+	const int col = column_of(problem, idx);
+	std::vector<int> pose_cols;
+	for (const auto& [y, H] : change.H_poses) pose_cols.push_back(column_of(problem, index_of(y)));
+	const Eigen::MatrixXd J_old = J_.middleCols(col, 3);
+	for (std::size_t i = 0; i < pose_cols.size(); i++)
+		J_.middleCols(pose_cols[i], 6) += J_old * change.D * change.H_poses[i].second;
+	J_.middleCols(col, 3) = J_old * change.D * change.H_new;
+	for (int c : pose_cols) refresh_information(c, 6);
+	refresh_information(col, 3);
+	vars_[static_cast<std::size_t>(idx)] = change.new_var;
+	x_lin_[static_cast<std::size_t>(idx)] = change.new_x_lin;
+}
+}  // namespace swba::smoother
