@@ -19,7 +19,7 @@ struct DirectbaCommandLine
 		"DIR holds poses.txt, points.txt and 0.png..N-1.png (see doc/directba.md).",
 		' ', "0.1.0"};
 	TCLAP::UnlabeledValueArg<std::string> dir{"dir", "data set directory (not with --synthetic)", false, "", "DIR", cmd};
-	TCLAP::ValueArg<int> iterations{"", "iterations", "maximum LM iterations (default 50)", false, 50, "K", cmd};
+	TCLAP::ValueArg<int> iterations = swba::app::max_iterations_arg(cmd, 50, "iterations");
 	TCLAP::ValueArg<double> sigma{
 		"", "sigma", "photometric noise sigma in gray levels (default 10)", false, 10.0, "S", cmd};
 	TCLAP::ValueArg<double> huber_delta{"", "huber-delta",
@@ -30,7 +30,7 @@ struct DirectbaCommandLine
 		"", "fixed-cameras", "hold the first N cameras constant (gauge; default 1, --synthetic: 2)", false, -1, "N", cmd};
 	TCLAP::ValueArg<int> border{
 		"", "border", "margin in pixels between a patch and the image edge (default 1)", false, 1, "B", cmd};
-	TCLAP::ValueArg<int> threads{"", "threads", "threads for evaluation and assembly (default 1)", false, 1, "N", cmd};
+	TCLAP::ValueArg<int> threads = swba::app::threads_arg(cmd);
 	TCLAP::ValueArg<std::string> ply_initial{
 		"", "ply-initial", "write the initial cameras and points as PLY", false, "", "F.ply", cmd};
 	TCLAP::ValueArg<std::string> ply_final{

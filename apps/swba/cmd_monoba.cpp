@@ -50,9 +50,8 @@ struct MonobaCommandLine
 		"", "repetitions", "solves per run for the median time (default 1)", false, 1, "R", cmd};
 	TCLAP::ValueArg<std::string> out{
 		"", "out", "also write the report / sweep table to this file", false, "", "FILE", cmd};
-	TCLAP::ValueArg<int> max_iterations{
-		"", "max-iterations", "maximum LM iterations (default 50)", false, 50, "K", cmd};
-	TCLAP::ValueArg<int> threads{"", "threads", "threads for evaluation and assembly (default 1)", false, 1, "N", cmd};
+	TCLAP::ValueArg<int> max_iterations = swba::app::max_iterations_arg(cmd, 50);
+	TCLAP::ValueArg<int> threads = swba::app::threads_arg(cmd);
 	TCLAP::SwitchArg progress{"", "progress", "print the per-iteration LM table", cmd};
 };
 

@@ -18,13 +18,12 @@ struct PgoCommandLine
 	TCLAP::UnlabeledValueArg<std::string> input{"input", "input g2o file", true, "", "IN.g2o", cmd};
 	TCLAP::ValueArg<std::string> output{
 		"o", "output", "write the optimised graph here (default: not written)", false, "", "OUT.g2o", cmd};
-	TCLAP::ValueArg<int> max_iterations{
-		"", "max-iterations", "maximum LM iterations (default 100)", false, 100, "K", cmd};
+	TCLAP::ValueArg<int> max_iterations = swba::app::max_iterations_arg(cmd, 100);
 	TCLAP::ValueArg<std::string> robust{
 		"", "robust", "robust loss: none, huber or cauchy (default none)", false, "none", "none|huber|cauchy", cmd};
 	TCLAP::ValueArg<double> robust_scale{
 		"", "robust-scale", "loss scale in whitened residual units (default 1)", false, 1.0, "S", cmd};
-	TCLAP::ValueArg<int> threads{"", "threads", "threads for evaluation and assembly (default 1)", false, 1, "N", cmd};
+	TCLAP::ValueArg<int> threads = swba::app::threads_arg(cmd);
 	TCLAP::ValueArg<std::string> linear{"",
 										"linear",
 										"linear solver: auto, dense-normal, sparse-normal (default auto)",

@@ -148,46 +148,61 @@ class G2oFileReader
 		if (kind_ != Kind::Unknown && kind_ != k) ctx.fail("a file may not mix 2D and 3D elements");
 		kind_ = k;
 	}
+	/** A vertex line: `layout` names the fields after the tag; `make()` reads the pose (fields 2…). */
+	template <typename Vertex, typename Make>
+	void read_vertex(const LineContext& ctx, const Tokens& tok, Kind kind, size_t fields, const char* layout,
+					 std::map<G2oId, Vertex>& vertices, Make make)
+	{
+		set_kind(ctx, kind);
+		ctx.expect_fields(tok, fields, layout);
+		const G2oId id = ctx.id(tok, 1);
+		if (!vertices.emplace(id, make()).second) ctx.fail("duplicate vertex id " + std::to_string(id));
+	}
+	/** An edge line: the vertex ids, the measurement (`fill`, fields 3…), then the N×N information
+	 * matrix from field `info_first`. */
+	template <int N, typename Edge, typename Fill>
+	void read_edge(const LineContext& ctx, const Tokens& tok, Kind kind, size_t fields, const char* layout,
+				   size_t info_first, std::vector<Edge>& edges, Fill fill)
+	{
+		set_kind(ctx, kind);
+		ctx.expect_fields(tok, fields, layout);
+		Edge e;
+		ctx.edge_ends(tok, e);
+		fill(e);
+		e.information = ctx.information<N>(tok, info_first);
+		edges.push_back(e);
+	}
 	void read_vertex3(const LineContext& ctx, const Tokens& tok)
 	{
-		set_kind(ctx, Kind::Three);
-		ctx.expect_fields(tok, 8, "id x y z qx qy qz qw");
-		const G2oId id = ctx.id(tok, 1);
-		PoseGraphVertex3 v;
-		v.t = Eigen::Vector3d(ctx.number(tok, 2), ctx.number(tok, 3), ctx.number(tok, 4));
-		v.q = ctx.quaternion(tok, 5);
-		if (!g_.vertices3.emplace(id, v).second) ctx.fail("duplicate vertex id " + std::to_string(id));
-	}
-	void read_edge3(const LineContext& ctx, const Tokens& tok)
-	{
-		set_kind(ctx, Kind::Three);
-		ctx.expect_fields(tok, 30, "i j x y z qx qy qz qw + 21 information entries");
-		PoseGraphEdge3 e;
-		ctx.edge_ends(tok, e);
-		e.t = Eigen::Vector3d(ctx.number(tok, 3), ctx.number(tok, 4), ctx.number(tok, 5));
-		e.q = ctx.quaternion(tok, 6);
-		e.information = ctx.information<6>(tok, 10);
-		g_.edges3.push_back(e);
+		read_vertex(ctx, tok, Kind::Three, 8, "id x y z qx qy qz qw", g_.vertices3, [&] {
+			PoseGraphVertex3 v;
+			v.t = Eigen::Vector3d(ctx.number(tok, 2), ctx.number(tok, 3), ctx.number(tok, 4));
+			v.q = ctx.quaternion(tok, 5);
+			return v;
+		});
 	}
 	void read_vertex2(const LineContext& ctx, const Tokens& tok)
 	{
-		set_kind(ctx, Kind::Two);
-		ctx.expect_fields(tok, 4, "id x y theta");
-		const G2oId id = ctx.id(tok, 1);
-		const PoseGraphVertex2 v{ctx.number(tok, 2), ctx.number(tok, 3), ctx.number(tok, 4)};
-		if (!g_.vertices2.emplace(id, v).second) ctx.fail("duplicate vertex id " + std::to_string(id));
+		read_vertex(ctx, tok, Kind::Two, 4, "id x y theta", g_.vertices2, [&] {
+			return PoseGraphVertex2{ctx.number(tok, 2), ctx.number(tok, 3), ctx.number(tok, 4)};
+		});
+	}
+	void read_edge3(const LineContext& ctx, const Tokens& tok)
+	{
+		read_edge<6>(ctx, tok, Kind::Three, 30, "i j x y z qx qy qz qw + 21 information entries", 10, g_.edges3,
+					 [&](PoseGraphEdge3& e) {
+						 e.t = Eigen::Vector3d(ctx.number(tok, 3), ctx.number(tok, 4), ctx.number(tok, 5));
+						 e.q = ctx.quaternion(tok, 6);
+					 });
 	}
 	void read_edge2(const LineContext& ctx, const Tokens& tok)
 	{
-		set_kind(ctx, Kind::Two);
-		ctx.expect_fields(tok, 11, "i j x y theta + 6 information entries");
-		PoseGraphEdge2 e;
-		ctx.edge_ends(tok, e);
-		e.x = ctx.number(tok, 3);
-		e.y = ctx.number(tok, 4);
-		e.theta = ctx.number(tok, 5);
-		e.information = ctx.information<3>(tok, 6);
-		g_.edges2.push_back(e);
+		read_edge<3>(ctx, tok, Kind::Two, 11, "i j x y theta + 6 information entries", 6, g_.edges2,
+					 [&](PoseGraphEdge2& e) {
+						 e.x = ctx.number(tok, 3);
+						 e.y = ctx.number(tok, 4);
+						 e.theta = ctx.number(tok, 5);
+					 });
 	}
 	bool has_vertex(G2oId id) const { return g_.vertices3.count(id) || g_.vertices2.count(id); }
 	void check_vertices(G2oId from, G2oId to, int line, const char* tag) const
