@@ -13,6 +13,20 @@ namespace swba::app
  * to return (0 after --help/--version, 2 after a parse error). */
 std::optional<int> parse_command_line(TCLAP::CmdLine& cmd, int argc, char** argv);
 
+/** `--threads N` of the solver commands: "threads for evaluation and assembly (default 1)". */
+inline TCLAP::ValueArg<int> threads_arg(TCLAP::CmdLine& cmd)
+{
+	return TCLAP::ValueArg<int>("", "threads", "threads for evaluation and assembly (default 1)", false, 1, "N", cmd);
+}
+
+/** `--<flag> K`: "maximum LM iterations (default <default_value>)". */
+inline TCLAP::ValueArg<int> max_iterations_arg(TCLAP::CmdLine& cmd, int default_value,
+											   const std::string& flag = "max-iterations")
+{
+	return TCLAP::ValueArg<int>("", flag, "maximum LM iterations (default " + std::to_string(default_value) + ")",
+								false, default_value, "K", cmd);
+}
+
 /** Thrown by commands for bad user input; main prints "swba <cmd>: error: <what>" and exits 1. */
 struct UsageError : std::runtime_error
 {

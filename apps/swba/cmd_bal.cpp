@@ -1,5 +1,6 @@
 // swba bal: bundle adjustment of a BAL problem (Snavely cameras) with swba's LM and Schur elimination.
-#include <swba/io/bal.h>
+// Logic in swba/apps/bal.h.
+#include <swba/apps/bal.h>
 
 #include <iostream>
 
@@ -8,58 +9,68 @@
 
 namespace
 {
-int run_bal(int argc, char** argv)
+struct BalCommandLine
 {
-	TCLAP::CmdLine cmd(
+	TCLAP::CmdLine cmd{
 		"Bundle adjustment of a BAL problem ('Bundle Adjustment in the Large'): Snavely cameras, points eliminated "
 		"by a Schur complement, Levenberg-Marquardt. Prints the per-iteration table and a summary.",
-		' ', "0.1.0");
-	TCLAP::UnlabeledValueArg<std::string> problem("problem", "BAL problem file (plain text, or bzip2 if supported)",
-												  true, "", "PROBLEM", cmd);
-	TCLAP::ValueArg<std::string> ply_initial("", "ply-initial", "write the initial cameras (green) and points (white) as PLY",
-											 false, "", "FILE", cmd);
-	TCLAP::ValueArg<std::string> ply_final("", "ply-final", "write the solution as PLY", false, "", "FILE", cmd);
-	TCLAP::ValueArg<std::string> write_problem("", "write-problem", "write the solution in the BAL format", false, "",
-											   "OUT", cmd);
-	TCLAP::ValueArg<int> threads("", "threads", "threads for evaluation and Schur assembly (default 2)", false, 2, "N", cmd);
-	TCLAP::ValueArg<int> max_iterations("", "max-iterations", "LM iteration limit (default 50)", false, 50, "K", cmd);
-	TCLAP::ValueArg<std::string> linear("", "linear",
+		' ', "0.1.0"};
+	TCLAP::UnlabeledValueArg<std::string> problem{
+		"problem", "BAL problem file (plain text, or bzip2 if supported)", true, "", "PROBLEM", cmd};
+	TCLAP::ValueArg<std::string> ply_initial{
+		"", "ply-initial", "write the initial cameras (green) and points (white) as PLY", false, "", "FILE", cmd};
+	TCLAP::ValueArg<std::string> ply_final{"", "ply-final", "write the solution as PLY", false, "", "FILE", cmd};
+	TCLAP::ValueArg<std::string> write_problem{
+		"", "write-problem", "write the solution in the BAL format", false, "", "OUT", cmd};
+	TCLAP::ValueArg<int> threads{"", "threads", "threads for evaluation and Schur assembly (default 2)", false, 2, "N", cmd};
+	TCLAP::ValueArg<int> max_iterations{"", "max-iterations", "LM iteration limit (default 50)", false, 50, "K", cmd};
+	TCLAP::ValueArg<std::string> linear{"", "linear",
 										"reduced camera system: dense-schur, sparse-schur (CHOLMOD) or auto (default: "
 										"dense up to 1500 unknowns)",
-										false, "auto", "dense-schur|sparse-schur|auto", cmd);
-	TCLAP::ValueArg<std::string> loss("", "loss", "robust loss: none, huber or cauchy (default none)", false, "none",
-									  "none|huber|cauchy", cmd);
-	TCLAP::ValueArg<double> loss_scale("", "loss-scale", "loss scale in pixels (default 1)", false, 1.0, "S", cmd);
-	TCLAP::ValueArg<double> ftol("", "function-tolerance", "stop when |Δcost|/cost < this (default 1e-6)", false, 1e-6,
-								 "TOL", cmd);
-	TCLAP::ValueArg<double> gtol("", "gradient-tolerance", "stop when max|gradient| ≤ this (default 1e-10)", false,
-								 1e-10, "TOL", cmd);
-	TCLAP::ValueArg<double> ptol("", "parameter-tolerance", "stop when |step| ≤ this·(|x| + this) (default 1e-8)",
-								 false, 1e-8, "TOL", cmd);
-	TCLAP::SwitchArg quiet("", "quiet", "do not print the per-iteration table", cmd);
-	if (auto rc = swba::app::parse_command_line(cmd, argc, argv)) return *rc;
+										false, "auto", "dense-schur|sparse-schur|auto", cmd};
+	TCLAP::ValueArg<std::string> loss{
+		"", "loss", "robust loss: none, huber or cauchy (default none)", false, "none", "none|huber|cauchy", cmd};
+	TCLAP::ValueArg<double> loss_scale{"", "loss-scale", "loss scale in pixels (default 1)", false, 1.0, "S", cmd};
+	TCLAP::ValueArg<double> ftol{
+		"", "function-tolerance", "stop when |Δcost|/cost < this (default 1e-6)", false, 1e-6, "TOL", cmd};
+	TCLAP::ValueArg<double> gtol{
+		"", "gradient-tolerance", "stop when max|gradient| ≤ this (default 1e-10)", false, 1e-10, "TOL", cmd};
+	TCLAP::ValueArg<double> ptol{
+		"", "parameter-tolerance", "stop when |step| ≤ this·(|x| + this) (default 1e-8)", false, 1e-8, "TOL", cmd};
+	TCLAP::SwitchArg quiet{"", "quiet", "do not print the per-iteration table", cmd};
+};
 
-	swba::io::BalAppOptions o;
-	o.problem_path = problem.getValue();
-	o.ply_initial = ply_initial.getValue();
-	o.ply_final = ply_final.getValue();
-	o.write_problem = write_problem.getValue();
-	o.loss = loss.getValue();
-	o.loss_scale = loss_scale.getValue();
-	o.solver.num_threads = threads.getValue();
-	o.solver.max_iterations = max_iterations.getValue();
-	o.solver.function_tolerance = ftol.getValue();
-	o.solver.gradient_tolerance = gtol.getValue();
-	o.solver.parameter_tolerance = ptol.getValue();
-	o.solver.progress_to_stdout = !quiet.getValue();
-	const std::string ls = linear.getValue();
+swba::apps::BalAppOptions options_from(BalCommandLine& a)
+{
+	using swba::app::UsageError;
+	swba::apps::BalAppOptions o;
+	o.problem_path = a.problem.getValue();
+	o.ply_initial = a.ply_initial.getValue();
+	o.ply_final = a.ply_final.getValue();
+	o.write_problem = a.write_problem.getValue();
+	o.loss_scale = a.loss_scale.getValue();
+	o.solver.num_threads = a.threads.getValue();
+	o.solver.max_iterations = a.max_iterations.getValue();
+	o.solver.function_tolerance = a.ftol.getValue();
+	o.solver.gradient_tolerance = a.gtol.getValue();
+	o.solver.parameter_tolerance = a.ptol.getValue();
+	o.solver.progress_to_stdout = !a.quiet.getValue();
+	const std::string ls = a.linear.getValue();
 	if (ls != "auto" && ls != "dense-schur" && ls != "sparse-schur")
-		throw swba::app::UsageError("--linear must be dense-schur, sparse-schur or auto, got '" + ls + "'");
+		throw UsageError("--linear must be dense-schur, sparse-schur or auto, got '" + ls + "'");
 	o.solver.linear_solver = swba::parse_linear_solver(ls);
-	if (o.solver.num_threads < 1) throw swba::app::UsageError("--threads must be >= 1");
-	if (o.solver.max_iterations < 0) throw swba::app::UsageError("--max-iterations must be >= 0");
+	if (o.solver.num_threads < 1) throw UsageError("--threads must be >= 1");
+	if (o.solver.max_iterations < 0) throw UsageError("--max-iterations must be >= 0");
+	if (std::string why; !o.solver.is_valid(&why)) throw UsageError(why);
+	o.loss = swba::apps::parse_robust_loss(a.loss.getValue());
+	return o;
+}
 
-	const auto result = swba::io::run_bal_app(o, std::cout);
+int run_bal(int argc, char** argv)
+{
+	BalCommandLine args;
+	if (auto rc = swba::app::parse_command_line(args.cmd, argc, argv)) return *rc;
+	const auto result = swba::apps::run_bal_app(options_from(args), std::cout);
 	return result.summary.is_solution_usable() ? 0 : 1;
 }
 SWBA_REGISTER_COMMAND("bal", "bundle adjustment of a BAL problem (Snavely cameras), PLY output", run_bal);

@@ -1,5 +1,8 @@
 #include "bal_peers.h"
 
+#include <swba/nonlinear/solver.h>
+#include <swba/problems/bal.h>
+
 #include <chrono>
 
 namespace swba::bench
@@ -7,7 +10,7 @@ namespace swba::bench
 PeerResult solve_swba(const io::BalProblem& bal, const PeerSettings& s)
 {
 	Problem problem;
-	io::add_bal_to_problem(bal, problem);
+	problems::add_bal_to_problem(bal, problem);
 	SolverOptions o;
 	o.num_threads = s.num_threads;
 	o.max_iterations = s.max_iterations;

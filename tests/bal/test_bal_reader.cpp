@@ -2,6 +2,7 @@
 // an exact write/read round trip, and each malformed case rejected with its line number.
 #include <gtest/gtest.h>
 #include <swba/io/bal.h>
+#include <swba/problems/bal.h>
 
 #include <cmath>
 #include <cstdio>
@@ -85,7 +86,7 @@ TEST(BalReader, ReadsLadybugSizesAndValues)
 TEST(BalReader, CountsObservationsBehindTheirCamera)
 {
 	// REFERENCE.md: 31 observations of problem-49-7776 have the point behind the camera.
-	EXPECT_EQ(swba::io::count_observations_behind_camera(swba::io::read_bal(kLadybug)), 31);
+	EXPECT_EQ(swba::problems::count_observations_behind_camera(swba::io::read_bal(kLadybug)), 31);
 }
 
 TEST(BalReader, InitialCostMatchesCeres)
@@ -93,7 +94,7 @@ TEST(BalReader, InitialCostMatchesCeres)
 	// Ceres's initial cost on problem-49-7776 (REFERENCE.md): 8.509125e5 (7 significant digits).
 	const auto bal = swba::io::read_bal(kLadybug);
 	swba::Problem problem;
-	const auto vars = swba::io::add_bal_to_problem(bal, problem);
+	const auto vars = swba::problems::add_bal_to_problem(bal, problem);
 	EXPECT_EQ(vars.num_unobserved_cameras, 0);
 	EXPECT_EQ(vars.num_unobserved_points, 0);
 	EXPECT_EQ(problem.num_factors(), 31843u);

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <swba/factors/snavely_reprojection.h>
 #include <swba/io/bal.h>
+#include <swba/problems/bal.h>
 #include <swba/nonlinear/solver.h>
 
 #include <Eigen/Cholesky>
@@ -68,9 +69,9 @@ Eigen::VectorXd stacked(const swba::io::BalProblem& bal)
 swba::Summary solve_bal(swba::io::BalProblem& bal, swba::SolverOptions o)
 {
 	swba::Problem problem;
-	const auto vars = swba::io::add_bal_to_problem(bal, problem);
+	const auto vars = swba::problems::add_bal_to_problem(bal, problem);
 	const auto summary = swba::solve(problem, o);
-	swba::io::copy_values_to_bal(problem, vars, bal);
+	swba::problems::copy_values_to_bal(problem, vars, bal);
 	return summary;
 }
 }  // namespace

@@ -1,6 +1,7 @@
 // Reader of the course's direct-BA data set: contents, pose convention, and clear errors on
 // missing/unreadable images and malformed text files.
 #include <swba/core/manifold.h>
+#include <swba/factors/photometric_patch.h>
 #include <swba/io/directba_dataset.h>
 
 #include <gtest/gtest.h>

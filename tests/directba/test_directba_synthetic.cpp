@@ -1,8 +1,8 @@
 // Synthetic direct BA with ground truth: the rendered room is consistent with the photometric model
 // at the true values, the perturbation is several pixels, and the adjustment recovers the truth
 // (poses within 1 mm / 0.05°, every point within 1 cm).
-#include <swba/estimators/directba.h>
-#include <swba/io/directba_synthetic.h>
+#include <swba/apps/directba.h>
+#include <swba/problems/directba_synthetic.h>
 
 #include <gtest/gtest.h>
 
@@ -20,8 +20,8 @@ std::vector<Eigen::Vector3d> positions(const io::DirectBADataset& d)
 
 TEST(DirectBASynthetic, RendererIsDeterministicAndTextured)
 {
-	const auto a = io::make_synthetic_directba();
-	const auto b = io::make_synthetic_directba();
+	const auto a = problems::make_synthetic_directba();
+	const auto b = problems::make_synthetic_directba();
 	ASSERT_EQ(a.truth.images.size(), 6u);
 	EXPECT_EQ(a.truth.images[3]->pixels, b.truth.images[3]->pixels);
 	EXPECT_EQ(a.initial.points[10].position, b.initial.points[10].position);
@@ -47,31 +47,31 @@ TEST(DirectBASynthetic, GroundTruthFitsThePhotometricModel)
 {
 	// At the true values the residual is only interpolation/quantisation/patch-warp error; at the
 	// perturbed values it is much larger. This is what makes the recovery test meaningful.
-	const auto syn = io::make_synthetic_directba();
-	estimators::DirectBAOptions opt;
-	const auto at_truth = estimators::direct_ba_stats(syn.truth, syn.truth.world_from_camera, positions(syn.truth), opt);
+	const auto syn = problems::make_synthetic_directba();
+	apps::DirectBAOptions opt;
+	const auto at_truth = apps::direct_ba_stats(syn.truth, syn.truth.world_from_camera, positions(syn.truth), opt);
 	const auto at_start =
-		estimators::direct_ba_stats(syn.initial, syn.initial.world_from_camera, positions(syn.initial), opt);
+		apps::direct_ba_stats(syn.initial, syn.initial.world_from_camera, positions(syn.initial), opt);
 	EXPECT_LT(at_truth.pixel_rms, 0.5);
 	EXPECT_GT(at_start.pixel_rms, 5 * at_truth.pixel_rms);
 	EXPECT_GT(at_truth.evaluated, 1800);
 	// The perturbation is several pixels.
-	const auto e0 = estimators::ground_truth_errors(syn.truth, syn.initial.world_from_camera, positions(syn.initial));
+	const auto e0 = apps::direct_ba_ground_truth_errors(syn.truth, syn.initial.world_from_camera, positions(syn.initial));
 	EXPECT_GT(e0.reprojection_mean_px, 2.0);
-	EXPECT_EQ(estimators::ground_truth_errors(syn.truth, syn.truth.world_from_camera, positions(syn.truth))
+	EXPECT_EQ(apps::direct_ba_ground_truth_errors(syn.truth, syn.truth.world_from_camera, positions(syn.truth))
 				  .reprojection_max_px,
 			  0.0);
 }
 
 TEST(DirectBASynthetic, RecoversGroundTruthFromSeveralPixelsOfPerturbation)
 {
-	io::SyntheticDirectBAOptions scene;
-	estimators::DirectBAOptions opt;
+	problems::SyntheticDirectBAOptions scene;
+	apps::DirectBAOptions opt;
 	opt.solver.max_iterations = 50;
-	const auto syn = estimators::run_synthetic_direct_ba(scene, opt);
+	const auto syn = apps::run_synthetic_direct_ba(scene, opt);
 	const auto& r = syn.result;
-	std::cout << r.summary.full_report() << estimators::format_direct_ba_report(r)
-			  << estimators::format_ground_truth_errors(syn.initial_errors, syn.final_errors);
+	std::cout << r.summary.full_report() << apps::format_direct_ba_report(r)
+			  << apps::format_direct_ba_ground_truth_errors(syn.initial_errors, syn.final_errors);
 	ASSERT_TRUE(r.summary.is_solution_usable()) << r.summary.message;
 	EXPECT_GT(syn.initial_errors.reprojection_mean_px, 2.0);
 	EXPECT_LT(r.summary.final_cost, 0.1 * r.summary.initial_cost);

@@ -1,7 +1,7 @@
 // Mono BA demo and gauge study (issue 2): fixed poses bit-identical, the 7-dimensional null space of
 // the free-gauge Hessian (6 SE(3) + 1 scale) and that it is exactly the similarity gauge, prior → fixed
 // as W grows, convergence and inverse-depth recovery of the 3-camera/20-point demo, determinism.
-#include <swba/estimators/monoba.h>
+#include <swba/apps/monoba.h>
 
 #include <swba/core/manifold.h>
 #include <swba/nonlinear/linearization.h>
@@ -13,13 +13,16 @@
 #include <cmath>
 #include <cstring>
 
-namespace est = swba::estimators;
+namespace apps = swba::apps;
+namespace problems = swba::problems;
+using swba::GaugeMode;
+using swba::parse_gauge_mode;
 
 namespace
 {
-est::MonoBASceneOptions noisy_pose_scene()
+problems::MonoBASceneOptions noisy_pose_scene()
 {
-	est::MonoBASceneOptions so;
+	problems::MonoBASceneOptions so;
 	so.pose_noise_m = 0.1;    // camera 2 starts away from the truth, so its pose has work to do
 	so.pose_noise_rad = 0.02;
 	return so;
@@ -35,7 +38,7 @@ swba::SolverOptions tight_solver()
 	return s;
 }
 
-std::vector<swba::VariableId> all_variables(const est::MonoBAProblem& mp)
+std::vector<swba::VariableId> all_variables(const apps::MonoBAProblem& mp)
 {
 	std::vector<swba::VariableId> order = mp.poses;
 	order.insert(order.end(), mp.inverse_depths.begin(), mp.inverse_depths.end());
@@ -59,13 +62,13 @@ int count_below(const Eigen::VectorXd& ev, double rel)
 
 TEST(MonoBA, FixedGaugeKeepsAnchorPosesBitIdentical)
 {
-	const auto scene = est::make_monoba_scene(noisy_pose_scene());
+	const auto scene = problems::make_monoba_scene(noisy_pose_scene());
 	for (int K : {1, 2})
 	{
-		est::MonoBAOptions o;
-		o.gauge = swba::GaugeMode::Fixed;
+		apps::MonoBAOptions o;
+		o.gauge = GaugeMode::Fixed;
 		o.anchors = K;
-		auto mp = est::build_monoba_problem(scene, o);
+		auto mp = apps::build_monoba_problem(scene, o);
 		std::vector<std::vector<double>> before;
 		for (int n = 0; n < 3; n++)
 			before.emplace_back(mp.problem.value(mp.poses[n]), mp.problem.value(mp.poses[n]) + 12);
@@ -88,10 +91,10 @@ TEST(MonoBA, FreeGaugeHessianHasSevenDimensionalNullSpace)
 	// Monocular BA is invariant to a similarity transform of the world (x ↦ sRx + t): rotation (3),
 	// translation (3) and scale (1), since projections only see directions. Inverse depths live in
 	// their host camera, so the SE(3) part leaves them unchanged and the scale divides them by s.
-	const auto scene = est::make_monoba_scene(noisy_pose_scene());
-	est::MonoBAOptions o;
-	o.gauge = swba::GaugeMode::Free;
-	auto mp = est::build_monoba_problem(scene, o);
+	const auto scene = problems::make_monoba_scene(noisy_pose_scene());
+	apps::MonoBAOptions o;
+	o.gauge = GaugeMode::Free;
+	auto mp = apps::build_monoba_problem(scene, o);
 	const auto s = swba::solve(mp.problem, o.solver);
 	ASSERT_TRUE(s.is_solution_usable()) << s.message;
 	ASSERT_LT(s.final_cost, 1e-2 * s.initial_cost);
@@ -165,13 +168,13 @@ TEST(MonoBA, FreeGaugeHessianHasSevenDimensionalNullSpace)
 TEST(MonoBA, FixingPosesRemovesTheNullSpace)
 {
 	// K = 2 fixed poses: no null space left. K = 1: the scale direction remains (1-D).
-	const auto scene = est::make_monoba_scene(noisy_pose_scene());
+	const auto scene = problems::make_monoba_scene(noisy_pose_scene());
 	for (int K : {1, 2})
 	{
-		est::MonoBAOptions o;
-		o.gauge = swba::GaugeMode::Fixed;
+		apps::MonoBAOptions o;
+		o.gauge = GaugeMode::Fixed;
 		o.anchors = K;
-		auto mp = est::build_monoba_problem(scene, o);
+		auto mp = apps::build_monoba_problem(scene, o);
 		swba::solve(mp.problem, o.solver);
 		std::vector<swba::VariableId> order(mp.poses.begin() + K, mp.poses.end());
 		order.insert(order.end(), mp.inverse_depths.begin(), mp.inverse_depths.end());
@@ -182,11 +185,11 @@ TEST(MonoBA, FixingPosesRemovesTheNullSpace)
 
 TEST(MonoBA, PriorApproachesFixedAsWeightGrows)
 {
-	const auto scene = est::make_monoba_scene(noisy_pose_scene());
-	est::MonoBAOptions fixed;
-	fixed.gauge = swba::GaugeMode::Fixed;
+	const auto scene = problems::make_monoba_scene(noisy_pose_scene());
+	apps::MonoBAOptions fixed;
+	fixed.gauge = GaugeMode::Fixed;
 	fixed.solver = tight_solver();
-	const auto ref = est::run_monoba(scene, fixed);
+	const auto ref = apps::run_monoba(scene, fixed);
 	ASSERT_TRUE(ref.summary.is_solution_usable());
 	// The anchors move by O(gradient/W) away from their prior values, so the difference to the fixed
 	// solution should fall like c/W once the prior dominates (measured c ≈ 4.7e4 on this scene: the
@@ -195,10 +198,10 @@ TEST(MonoBA, PriorApproachesFixedAsWeightGrows)
 	std::vector<double> diffs;
 	for (double W : {1e2, 1e4, 1e6, 1e8, 1e10, 1e12})
 	{
-		est::MonoBAOptions o = fixed;
-		o.gauge = swba::GaugeMode::Prior;
+		apps::MonoBAOptions o = fixed;
+		o.gauge = GaugeMode::Prior;
 		o.prior_weight = W;
-		const auto r = est::run_monoba(scene, o);
+		const auto r = apps::run_monoba(scene, o);
 		ASSERT_TRUE(r.summary.is_solution_usable()) << "W = " << W << ": " << r.summary.message;
 		double diff = 0;  // max over all pose entries (R and t) and inverse depths
 		for (size_t n = 0; n < r.poses.size(); n++)
@@ -230,12 +233,12 @@ TEST(MonoBA, DemoConvergesAndRecoversInverseDepthsUnderFixedGauge)
 	// more seeds: final cost ≤ 1e-3 × initial, every inverse depth within 1 % of ground truth.
 	for (unsigned seed = 0; seed < 5; seed++)
 	{
-		est::MonoBASceneOptions so;
+		problems::MonoBASceneOptions so;
 		so.seed = seed;
-		const auto scene = est::make_monoba_scene(so);
+		const auto scene = problems::make_monoba_scene(so);
 		ASSERT_EQ(scene.points.size(), 20u);
-		est::MonoBAOptions o;  // fixed gauge, K = 2, default solver options
-		const auto r = est::run_monoba(scene, o);
+		apps::MonoBAOptions o;  // fixed gauge, K = 2, default solver options
+		const auto r = apps::run_monoba(scene, o);
 		ASSERT_TRUE(r.summary.is_solution_usable()) << r.summary.message;
 		EXPECT_LE(r.summary.final_cost, 1e-3 * r.summary.initial_cost) << "seed " << seed;
 		int initially_off = 0;
@@ -253,19 +256,19 @@ TEST(MonoBA, DemoConvergesAndRecoversInverseDepthsUnderFixedGauge)
 
 TEST(MonoBA, DeterministicOutput)
 {
-	est::MonoBASceneOptions so;
+	problems::MonoBASceneOptions so;
 	so.seed = 42;
-	const auto s1 = est::make_monoba_scene(so), s2 = est::make_monoba_scene(so);
-	est::MonoBAOptions o;
-	const std::string a = est::format_monoba_report(s1, o, est::run_monoba(s1, o), false);
-	const std::string b = est::format_monoba_report(s2, o, est::run_monoba(s2, o), false);
+	const auto s1 = problems::make_monoba_scene(so), s2 = problems::make_monoba_scene(so);
+	apps::MonoBAOptions o;
+	const std::string a = apps::format_monoba_report(s1, o, apps::run_monoba(s1, o), false);
+	const std::string b = apps::format_monoba_report(s2, o, apps::run_monoba(s2, o), false);
 	EXPECT_EQ(a, b);
 	so.seed = 43;
-	const auto s3 = est::make_monoba_scene(so);
-	EXPECT_NE(a, est::format_monoba_report(s3, o, est::run_monoba(s3, o), false));
+	const auto s3 = problems::make_monoba_scene(so);
+	EXPECT_NE(a, apps::format_monoba_report(s3, o, apps::run_monoba(s3, o), false));
 	// Pose noise comes from its own stream: the points do not change when it is enabled.
 	so.pose_noise_m = 0.1;
-	const auto s4 = est::make_monoba_scene(so);
+	const auto s4 = problems::make_monoba_scene(so);
 	EXPECT_EQ(s4.points[7].host_bearing, s3.points[7].host_bearing);
 	EXPECT_NE(s4.initial_poses[2].x(), s3.initial_poses[2].x());
 	EXPECT_EQ(s4.initial_poses[1].x(), s3.initial_poses[1].x());
@@ -273,7 +276,7 @@ TEST(MonoBA, DeterministicOutput)
 
 TEST(MonoBA, SceneMatchesItsDescription)
 {
-	const auto scene = est::make_monoba_scene({});
+	const auto scene = problems::make_monoba_scene({});
 	ASSERT_EQ(scene.true_poses.size(), 3u);
 	EXPECT_NEAR(scene.true_poses[1].yaw(), M_PI / 6, 1e-12);
 	for (const auto& pt : scene.points)
@@ -293,8 +296,8 @@ TEST(MonoBA, SceneMatchesItsDescription)
 
 TEST(MonoBA, SweepRowsAndWeightZeroEqualsFree)
 {
-	est::SweepOptions sw;
-	const auto rows = est::run_prior_weight_sweep({}, {}, sw);
+	apps::MonoBASweepOptions sw;
+	const auto rows = apps::run_prior_weight_sweep({}, {}, sw);
 	ASSERT_EQ(rows.size(), 2u + 12u);
 	EXPECT_EQ(rows[0].gauge, "free");
 	EXPECT_EQ(rows[1].gauge, "fixed");
@@ -308,33 +311,33 @@ TEST(MonoBA, SweepRowsAndWeightZeroEqualsFree)
 	// Fixed: camera 0 does not move at all; a strong prior keeps it close.
 	EXPECT_EQ(rows[1].camera0_drift_m, 0.0);
 	EXPECT_LT(rows.back().camera0_drift_m, 1e-6);
-	const std::string table = est::format_sweep_table(rows, {}, {}, sw);
+	const std::string table = apps::format_sweep_table(rows, {}, {}, sw);
 	EXPECT_NE(table.find("1e+10"), std::string::npos);
 }
 
 TEST(MonoBA, InvalidOptionsAreRejected)
 {
-	est::MonoBASceneOptions so;
+	problems::MonoBASceneOptions so;
 	std::string why;
 	so.cameras = 0;
 	EXPECT_FALSE(so.is_valid(&why));
-	EXPECT_THROW(est::make_monoba_scene(so), std::invalid_argument);
+	EXPECT_THROW(problems::make_monoba_scene(so), std::invalid_argument);
 	so = {};
 	so.points = 0;
-	EXPECT_THROW(est::make_monoba_scene(so), std::invalid_argument);
+	EXPECT_THROW(problems::make_monoba_scene(so), std::invalid_argument);
 	so = {};
 	so.noise = -1;
-	EXPECT_THROW(est::make_monoba_scene(so), std::invalid_argument);
-	EXPECT_THROW(swba::parse_gauge_mode("loose"), std::invalid_argument);
-	const auto scene = est::make_monoba_scene({});
-	est::MonoBAOptions o;
+	EXPECT_THROW(problems::make_monoba_scene(so), std::invalid_argument);
+	EXPECT_THROW(parse_gauge_mode("loose"), std::invalid_argument);
+	const auto scene = problems::make_monoba_scene({});
+	apps::MonoBAOptions o;
 	o.anchors = 4;  // > 3 cameras
-	EXPECT_THROW(est::build_monoba_problem(scene, o), std::invalid_argument);
+	EXPECT_THROW(apps::build_monoba_problem(scene, o), std::invalid_argument);
 	o = {};
-	o.gauge = swba::GaugeMode::Prior;
+	o.gauge = GaugeMode::Prior;
 	o.prior_weight = -1;
-	EXPECT_THROW(est::build_monoba_problem(scene, o), std::invalid_argument);
-	est::SweepOptions sw;
+	EXPECT_THROW(apps::build_monoba_problem(scene, o), std::invalid_argument);
+	apps::MonoBASweepOptions sw;
 	sw.weights.push_back(-5);
 	EXPECT_FALSE(sw.is_valid(&why));
 }

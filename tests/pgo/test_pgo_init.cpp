@@ -1,7 +1,8 @@
-// Pose-graph initialisation (swba/io/g2o_init.h): chordal relaxation and odometry composition on synthetic
+// Pose-graph initialisation (swba/problems/pose_graph_init.h): chordal relaxation and odometry composition on synthetic
 // graphs with a known truth (3D and 2D), LM from each start, the exact position step, and bad input.
 #include <swba/io/g2o.h>
-#include <swba/io/g2o_init.h>
+#include <swba/problems/pose_graph.h>
+#include <swba/problems/pose_graph_init.h>
 #include <swba/nonlinear/solver.h>
 
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 namespace
 {
 using namespace swba::io;
+using namespace swba::problems;
 
 Eigen::Matrix<double, 6, 6> random_information6(std::mt19937& rng)
 {

@@ -1,6 +1,7 @@
 // Pose-graph optimisation end to end in-process: a 4-pose loop with a known solution (3D and 2D,
 // every gauge), robust kernels against an outlier, and the shipped graphs against Ceres's cost.
 #include <swba/io/g2o.h>
+#include <swba/problems/pose_graph.h>
 #include <swba/nonlinear/solver.h>
 
 #include <gtest/gtest.h>
@@ -10,6 +11,7 @@
 namespace
 {
 using namespace swba::io;
+using namespace swba::problems;
 
 Eigen::Matrix<double, 6, 6> random_information(std::mt19937& rng)
 {

@@ -4,6 +4,7 @@
 #include <swba/core/numeric_diff.h>
 #include <swba/factors/relative_pose.h>
 #include <swba/io/g2o.h>
+#include <swba/problems/pose_graph.h>
 
 #include <gtest/gtest.h>
 
@@ -177,17 +178,17 @@ TEST(PoseGraphProblem, ProblemCostEqualsIndependentReferenceCost)
 		const auto g = swba::io::read_g2o(std::string(SWBA_DATA_DIR) + "/posegraph/" + name);
 		for (auto conv : {swba::RotationError::G2o, swba::RotationError::CeresExample})
 		{
-			swba::io::PoseGraphProblemOptions po;
+			swba::problems::PoseGraphProblemOptions po;
 			po.rotation_error = conv;
-			const auto pp = swba::io::build_pose_graph_problem(g, po);
-			const double ref = swba::io::pose_graph_cost(g, conv);
+			const auto pp = swba::problems::build_pose_graph_problem(g, po);
+			const double ref = swba::problems::pose_graph_cost(g, conv);
 			EXPECT_GT(ref, 0.0) << name;
 			EXPECT_NEAR(pp.problem.cost(), ref, 1e-10 * ref) << name << " " << static_cast<int>(conv);
 		}
 	}
 	// Initial costs of the two 3D conventions as Ceres reports them for sphere2500 (bench/pgo).
 	const auto g = swba::io::read_g2o(std::string(SWBA_DATA_DIR) + "/posegraph/sphere2500.g2o");
-	EXPECT_NEAR(swba::io::pose_graph_cost(g, swba::RotationError::G2o), 1292302.995442, 1e-6);
-	EXPECT_NEAR(swba::io::pose_graph_cost(g, swba::RotationError::CeresExample), 1292384.216700, 1e-6);
+	EXPECT_NEAR(swba::problems::pose_graph_cost(g, swba::RotationError::G2o), 1292302.995442, 1e-6);
+	EXPECT_NEAR(swba::problems::pose_graph_cost(g, swba::RotationError::CeresExample), 1292384.216700, 1e-6);
 }
 }  // namespace

@@ -60,9 +60,9 @@ std::ifstream open_or_throw(const std::string& path)
 }
 }  // namespace
 
-PatchCameraIntrinsics course_directba_intrinsics()
+PinholeIntrinsics directba_dataset_intrinsics()
 {
-	PatchCameraIntrinsics K;
+	PinholeIntrinsics K;
 	K.fx = 277.34;
 	K.fy = 291.402;
 	K.cx = 312.234;
@@ -130,17 +130,17 @@ std::vector<DirectBAPoint> read_directba_points(const std::string& path)
 	std::vector<double> v;
 	for (int line_no = 1; std::getline(f, line); line_no++)
 	{
-		if (!parse_numbers(path, line_no, line, 3 + kPatchSize, "x y z + 16 patch values", v)) continue;
+		if (!parse_numbers(path, line_no, line, 3 + kDirectBAPatchSize, "x y z + 16 patch values", v)) continue;
 		DirectBAPoint p;
 		p.position = Eigen::Vector3d(v[0], v[1], v[2]);
-		for (int k = 0; k < kPatchSize; k++) p.patch[k] = v[3 + k];
+		for (int k = 0; k < kDirectBAPatchSize; k++) p.patch[k] = v[3 + k];
 		points.push_back(p);
 	}
 	if (points.empty()) throw std::runtime_error(path + ": no points");
 	return points;
 }
 
-DirectBADataset read_directba_dataset(const std::string& dir, const PatchCameraIntrinsics& intrinsics)
+DirectBADataset read_directba_dataset(const std::string& dir, const PinholeIntrinsics& intrinsics)
 {
 	DirectBADataset ds;
 	ds.intrinsics = intrinsics;

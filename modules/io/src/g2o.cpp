@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 
@@ -20,6 +21,8 @@ constexpr const char* kVertex2 = "VERTEX_SE2";
 constexpr const char* kEdge2 = "EDGE_SE2";
 constexpr const char* kFix = "FIX";
 
+using Tokens = std::vector<std::string>;
+
 /** Parsing context of one line: error messages carry "<source>:<line>: <tag>: ". */
 struct LineContext
 {
@@ -31,13 +34,13 @@ struct LineContext
 	{
 		throw std::runtime_error(source + ":" + std::to_string(line) + ": " + tag + ": " + why);
 	}
-	void expect_fields(const std::vector<std::string>& tok, size_t n, const char* layout) const
+	void expect_fields(const Tokens& tok, size_t n, const char* layout) const
 	{
 		if (tok.size() - 1 != n)
 			fail("expected " + std::to_string(n) + " fields (" + layout + "), found " +
 				 std::to_string(tok.size() - 1));
 	}
-	double number(const std::vector<std::string>& tok, size_t i) const
+	double number(const Tokens& tok, size_t i) const
 	{
 		const char* s = tok[i].c_str();
 		char* end = nullptr;
@@ -47,7 +50,7 @@ struct LineContext
 			fail("field " + std::to_string(i) + " ('" + tok[i] + "') is not a finite number");
 		return v;
 	}
-	G2oId id(const std::vector<std::string>& tok, size_t i) const
+	G2oId id(const Tokens& tok, size_t i) const
 	{
 		const char* s = tok[i].c_str();
 		char* end = nullptr;
@@ -57,7 +60,16 @@ struct LineContext
 			fail("field " + std::to_string(i) + " ('" + tok[i] + "') is not an integer vertex id");
 		return static_cast<G2oId>(v);
 	}
-	Eigen::Quaterniond quaternion(const std::vector<std::string>& tok, size_t first) const
+	/** The vertex ids of an edge (fields 1 and 2, distinct) and its source line. */
+	template <typename Edge>
+	void edge_ends(const Tokens& tok, Edge& e) const
+	{
+		e.from = id(tok, 1);
+		e.to = id(tok, 2);
+		if (e.from == e.to) fail("edge connects vertex " + std::to_string(e.from) + " to itself");
+		e.line = line;
+	}
+	Eigen::Quaterniond quaternion(const Tokens& tok, size_t first) const
 	{
 		Eigen::Quaterniond q(number(tok, first + 3), number(tok, first), number(tok, first + 1),
 							 number(tok, first + 2));
@@ -70,7 +82,7 @@ struct LineContext
 	}
 	/** Reads the upper triangle (row by row) of an n×n information matrix and checks it is SPD. */
 	template <int N>
-	Eigen::Matrix<double, N, N> information(const std::vector<std::string>& tok, size_t first) const
+	Eigen::Matrix<double, N, N> information(const Tokens& tok, size_t first) const
 	{
 		Eigen::Matrix<double, N, N> I;
 		size_t k = first;
@@ -82,14 +94,130 @@ struct LineContext
 	}
 };
 
-std::vector<std::string> split(const std::string& line)
+
+/** Reads a file line by line. Vertex references (edges, FIX) are resolved by finish(), after the
+ * whole file: an element may come before the vertices it names. */
+class G2oFileReader
 {
-	std::vector<std::string> tok;
-	std::istringstream ss(line);
-	std::string t;
-	while (ss >> t) tok.push_back(t);
-	return tok;
-}
+   public:
+	explicit G2oFileReader(const std::string& source) : source_(source) {}
+
+	/** One non-blank, non-comment line split into fields (`tok[0]` is the tag). */
+	void read_line(const Tokens& tok, int line_no)
+	{
+		const std::string& tag = tok[0];
+		const LineContext ctx{source_, line_no, tag};
+		if (tag == kVertex3) read_vertex3(ctx, tok);
+		else if (tag == kEdge3) read_edge3(ctx, tok);
+		else if (tag == kVertex2) read_vertex2(ctx, tok);
+		else if (tag == kEdge2) read_edge2(ctx, tok);
+		else if (tag == kFix)
+		{
+			if (tok.size() < 2) ctx.fail("expected at least one vertex id");
+			for (size_t i = 1; i < tok.size(); i++) fix_lines_.emplace_back(ctx.id(tok, i), line_no);
+		}
+		else
+			g_.skipped_tags[tag]++;
+	}
+
+	/** Checks that every edge and FIX line names a defined vertex; returns the graph. */
+	PoseGraph finish()
+	{
+		for (const auto& e : g_.edges3) check_vertices(e.from, e.to, e.line, kEdge3);
+		for (const auto& e : g_.edges2) check_vertices(e.from, e.to, e.line, kEdge2);
+		for (const auto& [id, ln] : fix_lines_)
+		{
+			if (!has_vertex(id))
+				throw std::runtime_error(source_ + ":" + std::to_string(ln) + ": FIX: vertex " + std::to_string(id) +
+										 " is not defined");
+			g_.fixed.insert(id);
+		}
+		return std::move(g_);
+	}
+
+   private:
+	enum class Kind
+	{
+		Unknown,
+		Two,
+		Three
+	};
+
+	void set_kind(const LineContext& ctx, Kind k)
+	{
+		if (kind_ != Kind::Unknown && kind_ != k) ctx.fail("a file may not mix 2D and 3D elements");
+		kind_ = k;
+	}
+	/** A vertex line: `layout` names the fields after the tag; `make()` reads the pose (fields 2…). */
+	template <typename Vertex, typename Make>
+	void read_vertex(const LineContext& ctx, const Tokens& tok, Kind kind, size_t fields, const char* layout,
+					 std::map<G2oId, Vertex>& vertices, Make make)
+	{
+		set_kind(ctx, kind);
+		ctx.expect_fields(tok, fields, layout);
+		const G2oId id = ctx.id(tok, 1);
+		if (!vertices.emplace(id, make()).second) ctx.fail("duplicate vertex id " + std::to_string(id));
+	}
+	/** An edge line: the vertex ids, the measurement (`fill`, fields 3…), then the N×N information
+	 * matrix from field `info_first`. */
+	template <int N, typename Edge, typename Fill>
+	void read_edge(const LineContext& ctx, const Tokens& tok, Kind kind, size_t fields, const char* layout,
+				   size_t info_first, std::vector<Edge>& edges, Fill fill)
+	{
+		set_kind(ctx, kind);
+		ctx.expect_fields(tok, fields, layout);
+		Edge e;
+		ctx.edge_ends(tok, e);
+		fill(e);
+		e.information = ctx.information<N>(tok, info_first);
+		edges.push_back(e);
+	}
+	void read_vertex3(const LineContext& ctx, const Tokens& tok)
+	{
+		read_vertex(ctx, tok, Kind::Three, 8, "id x y z qx qy qz qw", g_.vertices3, [&] {
+			PoseGraphVertex3 v;
+			v.t = Eigen::Vector3d(ctx.number(tok, 2), ctx.number(tok, 3), ctx.number(tok, 4));
+			v.q = ctx.quaternion(tok, 5);
+			return v;
+		});
+	}
+	void read_vertex2(const LineContext& ctx, const Tokens& tok)
+	{
+		read_vertex(ctx, tok, Kind::Two, 4, "id x y theta", g_.vertices2, [&] {
+			return PoseGraphVertex2{ctx.number(tok, 2), ctx.number(tok, 3), ctx.number(tok, 4)};
+		});
+	}
+	void read_edge3(const LineContext& ctx, const Tokens& tok)
+	{
+		read_edge<6>(ctx, tok, Kind::Three, 30, "i j x y z qx qy qz qw + 21 information entries", 10, g_.edges3,
+					 [&](PoseGraphEdge3& e) {
+						 e.t = Eigen::Vector3d(ctx.number(tok, 3), ctx.number(tok, 4), ctx.number(tok, 5));
+						 e.q = ctx.quaternion(tok, 6);
+					 });
+	}
+	void read_edge2(const LineContext& ctx, const Tokens& tok)
+	{
+		read_edge<3>(ctx, tok, Kind::Two, 11, "i j x y theta + 6 information entries", 6, g_.edges2,
+					 [&](PoseGraphEdge2& e) {
+						 e.x = ctx.number(tok, 3);
+						 e.y = ctx.number(tok, 4);
+						 e.theta = ctx.number(tok, 5);
+					 });
+	}
+	bool has_vertex(G2oId id) const { return g_.vertices3.count(id) || g_.vertices2.count(id); }
+	void check_vertices(G2oId from, G2oId to, int line, const char* tag) const
+	{
+		for (G2oId id : {from, to})
+			if (!has_vertex(id))
+				throw std::runtime_error(source_ + ":" + std::to_string(line) + ": " + tag + ": vertex " +
+										 std::to_string(id) + " is not defined");
+	}
+
+	const std::string& source_;
+	PoseGraph g_;
+	std::vector<std::pair<G2oId, int>> fix_lines_;  ///< (id, line) of every FIX entry
+	Kind kind_ = Kind::Unknown;
+};
 
 void put(std::ostream& out, double v)
 {
@@ -121,101 +249,16 @@ PoseGraph read_g2o(const std::string& path)
 
 PoseGraph read_g2o(std::istream& in, const std::string& source_name)
 {
-	PoseGraph g;
-	std::vector<std::pair<G2oId, int>> fix_lines;  // (id, line)
-	enum class Kind
-	{
-		Unknown,
-		Two,
-		Three
-	} kind = Kind::Unknown;
+	G2oFileReader reader(source_name);
 	std::string line;
-	int line_no = 0;
-	while (std::getline(in, line))
+	for (int line_no = 1; std::getline(in, line); line_no++)
 	{
-		line_no++;
-		const auto tok = split(line);
-		if (tok.empty() || tok[0][0] == '#') continue;
-		const std::string& tag = tok[0];
-		const LineContext ctx{source_name, line_no, tag};
-		const auto set_kind = [&](Kind k) {
-			if (kind != Kind::Unknown && kind != k) ctx.fail("a file may not mix 2D and 3D elements");
-			kind = k;
-		};
-		if (tag == kVertex3)
-		{
-			set_kind(Kind::Three);
-			ctx.expect_fields(tok, 8, "id x y z qx qy qz qw");
-			const G2oId id = ctx.id(tok, 1);
-			PoseGraphVertex3 v;
-			v.t = Eigen::Vector3d(ctx.number(tok, 2), ctx.number(tok, 3), ctx.number(tok, 4));
-			v.q = ctx.quaternion(tok, 5);
-			if (!g.vertices3.emplace(id, v).second) ctx.fail("duplicate vertex id " + std::to_string(id));
-		}
-		else if (tag == kEdge3)
-		{
-			set_kind(Kind::Three);
-			ctx.expect_fields(tok, 30, "i j x y z qx qy qz qw + 21 information entries");
-			PoseGraphEdge3 e;
-			e.from = ctx.id(tok, 1);
-			e.to = ctx.id(tok, 2);
-			if (e.from == e.to) ctx.fail("edge connects vertex " + std::to_string(e.from) + " to itself");
-			e.t = Eigen::Vector3d(ctx.number(tok, 3), ctx.number(tok, 4), ctx.number(tok, 5));
-			e.q = ctx.quaternion(tok, 6);
-			e.information = ctx.information<6>(tok, 10);
-			e.line = line_no;
-			g.edges3.push_back(e);
-		}
-		else if (tag == kVertex2)
-		{
-			set_kind(Kind::Two);
-			ctx.expect_fields(tok, 4, "id x y theta");
-			const G2oId id = ctx.id(tok, 1);
-			const PoseGraphVertex2 v{ctx.number(tok, 2), ctx.number(tok, 3), ctx.number(tok, 4)};
-			if (!g.vertices2.emplace(id, v).second) ctx.fail("duplicate vertex id " + std::to_string(id));
-		}
-		else if (tag == kEdge2)
-		{
-			set_kind(Kind::Two);
-			ctx.expect_fields(tok, 11, "i j x y theta + 6 information entries");
-			PoseGraphEdge2 e;
-			e.from = ctx.id(tok, 1);
-			e.to = ctx.id(tok, 2);
-			if (e.from == e.to) ctx.fail("edge connects vertex " + std::to_string(e.from) + " to itself");
-			e.x = ctx.number(tok, 3);
-			e.y = ctx.number(tok, 4);
-			e.theta = ctx.number(tok, 5);
-			e.information = ctx.information<3>(tok, 6);
-			e.line = line_no;
-			g.edges2.push_back(e);
-		}
-		else if (tag == kFix)
-		{
-			if (tok.size() < 2) ctx.fail("expected at least one vertex id");
-			for (size_t i = 1; i < tok.size(); i++) fix_lines.emplace_back(ctx.id(tok, i), line_no);
-		}
-		else
-			g.skipped_tags[tag]++;
+		std::istringstream ss(line);
+		const Tokens tok{std::istream_iterator<std::string>(ss), std::istream_iterator<std::string>()};
+		if (!tok.empty() && tok[0][0] != '#') reader.read_line(tok, line_no);
 	}
 	if (in.bad()) throw std::runtime_error(source_name + ": read error");
-
-	const auto has_vertex = [&](G2oId id) { return g.vertices3.count(id) || g.vertices2.count(id); };
-	const auto check_edge = [&](G2oId from, G2oId to, int ln, const char* tag) {
-		for (G2oId id : {from, to})
-			if (!has_vertex(id))
-				throw std::runtime_error(source_name + ":" + std::to_string(ln) + ": " + tag +
-										 ": vertex " + std::to_string(id) + " is not defined");
-	};
-	for (const auto& e : g.edges3) check_edge(e.from, e.to, e.line, kEdge3);
-	for (const auto& e : g.edges2) check_edge(e.from, e.to, e.line, kEdge2);
-	for (const auto& [id, ln] : fix_lines)
-	{
-		if (!has_vertex(id))
-			throw std::runtime_error(source_name + ":" + std::to_string(ln) + ": FIX: vertex " +
-									 std::to_string(id) + " is not defined");
-		g.fixed.insert(id);
-	}
-	return g;
+	return reader.finish();
 }
 
 void write_g2o(const PoseGraph& g, const std::string& path)

@@ -55,6 +55,99 @@ const char* invalid_reading(const CObservationBearingRange::TMeasurement& m, boo
 	return nullptr;
 }
 
+using Measurements = std::vector<CObservationBearingRange::TMeasurement>;
+
+[[noreturn]] void fail_at(const std::string& at, const std::string& msg) { throw std::invalid_argument(at + ": " + msg); }
+
+/** The first robot movement as the step's odometry, finite with non-negative variances; none: the
+ * identity with a zero covariance. */
+void read_odometry(const CActionCollection& acts, RawlogStep& s, const std::string& at)
+{
+	s.has_odometry = acts.getFirstMovementEstimation(s.odometry);
+	if (!s.has_odometry)
+	{
+		s.odometry = mrpt::poses::CPose3DPDFGaussian();
+		s.odometry.cov.setZero();
+		return;
+	}
+	s.odometry_is_2d = !acts.getActionByClass<mrpt::obs::CActionRobotMovement3D>() &&
+		acts.getActionByClass<mrpt::obs::CActionRobotMovement2D>();
+	if (!finite_pose(s.odometry.mean)) fail_at(at, "odometry mean is not finite");
+	for (int i = 0; i < 6; i++)
+	{
+		for (int j = 0; j < 6; j++)
+			if (!std::isfinite(s.odometry.cov(i, j))) fail_at(at, "odometry covariance is not finite");
+		if (s.odometry.cov(i, i) < 0) fail_at(at, "odometry covariance has a negative variance");
+	}
+}
+
+/** The sensor pose and noise of a bearing-range observation, checked: the step's if it is the
+ * frame's first, else they must equal the first's. */
+void take_sensor(const CObservationBearingRange& br, RawlogStep& s, const std::string& at)
+{
+	const double stds[3] = {br.sensor_std_range, br.sensor_std_yaw, br.sensor_std_pitch};
+	if (!finite_pose(br.sensorLocationOnRobot)) fail_at(at, "sensorLocationOnRobot is not finite");
+	for (double v : stds)
+		if (!std::isfinite(v) || v < 0) fail_at(at, "sensor_std_range/yaw/pitch must be finite and >= 0");
+	if (!s.has_observation)
+	{
+		s.has_observation = true;
+		s.sensor_pose = br.sensorLocationOnRobot;
+		s.sensor_std_range = stds[0];
+		s.sensor_std_yaw = stds[1];
+		s.sensor_std_pitch = stds[2];
+	}
+	else if (
+		!(br.sensorLocationOnRobot == s.sensor_pose) || stds[0] != s.sensor_std_range || stds[1] != s.sensor_std_yaw ||
+		stds[2] != s.sensor_std_pitch)
+	{
+		fail_at(at, "several CObservationBearingRange with different sensor poses or noise in one sensory frame (not "
+					"supported)");
+	}
+}
+
+/** The valid readings of one observation, also appended to s.readings; invalid ones are counted in
+ * s.skipped_readings and reported to `warn`. */
+Measurements keep_valid_readings(const CObservationBearingRange& br, bool require_ids, RawlogStep& s,
+								 const std::string& at, const std::function<void(const std::string&)>& warn)
+{
+	Measurements kept;
+	for (std::size_t i = 0; i < br.sensedData.size(); i++)
+	{
+		const auto& m = br.sensedData[i];
+		if (const char* why = invalid_reading(m, require_ids))
+		{
+			s.skipped_readings++;
+			if (warn)
+				warn(at + ": reading " + std::to_string(i) + " (landmark " + std::to_string(m.landmarkID) +
+					 ") skipped: " + why);
+			continue;
+		}
+		kept.push_back(m);
+		s.readings.push_back({m.landmarkID, m.range, m.yaw, m.pitch});
+	}
+	return kept;
+}
+
+/** A copy of the frame whose bearing-range observations (in order) hold `kept_per_obs`. */
+CSensoryFrame::Ptr cleaned_frame(const CSensoryFrame& sf, const std::vector<Measurements>& kept_per_obs)
+{
+	auto clean = std::make_shared<CSensoryFrame>();
+	std::size_t j = 0;
+	for (const auto& o : sf)
+	{
+		if (o && IS_CLASS(*o, CObservationBearingRange))
+		{
+			auto c = std::make_shared<CObservationBearingRange>(dynamic_cast<const CObservationBearingRange&>(*o));
+			c->sensedData = kept_per_obs[j++];
+			clean->insert(c);
+		}
+		else
+			clean->insert(o);
+	}
+	return clean;
+}
+
 class Reader
 {
    public:
@@ -72,8 +165,19 @@ class Reader
 		out_.warning_count++;
 		if (out_.warnings.size() < opt_.max_warning_texts) out_.warnings.push_back(msg);
 	}
+	/** A truncated or corrupt file: an error, or (allow_truncated) a warning that ends the reading. */
+	void truncated(const std::string& msg)
+	{
+		if (!opt_.allow_truncated) fail(msg);
+		out_.truncated = true;
+		warn(msg);
+	}
+	bool read_entry(mrpt::io::CFileGZInputStream& f, mrpt::serialization::CArchive& arch, bool& clean_end);
+	void take_entry(const mrpt::serialization::CSerializable::Ptr& obj);
 	void add_step(const CActionCollection::Ptr& acts, std::size_t act_entry, const CSensoryFrame::Ptr& sf,
 				  std::size_t sf_entry);
+	void check_gzip_trailer(const mrpt::io::CFileGZInputStream& f);
+	void check_contents() const;
 	std::string where(std::size_t k, std::size_t act_entry, std::size_t sf_entry) const
 	{
 		return "step " + std::to_string(k) + " (rawlog entries " + std::to_string(act_entry) + "/" +
@@ -85,6 +189,9 @@ class Reader
 	RawlogStepConverter converter_{opt_.require_landmark_ids};
 	std::set<int32_t> ids_;
 	std::size_t bare_observations_ = 0;
+	CActionCollection::Ptr pending_;  ///< the last action collection, waiting for its sensory frame
+	std::size_t pending_entry_ = 0;
+	std::size_t entry_ = 0;  ///< entries read
 };
 
 void Reader::add_step(
@@ -111,96 +218,85 @@ void Reader::add_step(
 	out_.steps.push_back(std::move(s));
 }
 
-Rawlog Reader::run()
+/** Reads and takes the next entry; false at the end of the data: clean (at an object boundary) or
+ * after damage that allow_truncated lets pass. */
+bool Reader::read_entry(mrpt::io::CFileGZInputStream& f, mrpt::serialization::CArchive& arch, bool& clean_end)
 {
-	const std::string& path = out_.path;
-	if (path.empty()) throw std::runtime_error("rawlog: empty file name");
-	if (!mrpt::system::fileExists(path)) fail("file does not exist");
-	if (mrpt::system::directoryExists(path)) fail("is a directory, not a rawlog file");
-
-	mrpt::io::CFileGZInputStream f;
-	std::string open_error;
-	if (!f.open(path, open_error)) fail("cannot open: " + open_error);
-	auto arch = mrpt::serialization::archiveFrom(f);
-
-	CActionCollection::Ptr pending;
-	std::size_t pending_entry = 0;
-	std::size_t entry = 0;
-	bool clean_end = false;
-	for (;;)
+	const uint64_t pos_before = f.getPosition();
+	mrpt::serialization::CSerializable::Ptr obj;
+	std::string damage;
+	try
 	{
-		if (opt_.max_steps && out_.steps.size() >= opt_.max_steps) break;
-		const uint64_t pos_before = f.getPosition();
-		mrpt::serialization::CSerializable::Ptr obj;
-		std::string damage;
-		try
+		arch >> obj;
+	}
+	catch (const mrpt::serialization::CExceptionEOF& e)
+	{
+		if (f.getPosition() == pos_before)
 		{
-			arch >> obj;
+			clean_end = true;
+			return false;
 		}
-		catch (const mrpt::serialization::CExceptionEOF& e)
-		{
-			if (f.getPosition() == pos_before)
-			{
-				clean_end = true;
-				break;
-			}
-			damage = "unexpected end of data inside the object (" + mrpt_exception_summary(e.what()) + ")";
-		}
-		catch (const std::exception& e)
-		{
-			damage = mrpt_exception_summary(e.what());
-		}
-		if (damage.empty() && !obj) damage = "null object";
-		if (!damage.empty())
-		{
-			if (entry == 0)
-				fail("not an MRPT rawlog, or corrupt from the start (entry 0: " + damage + ")");
-			const std::string msg = "truncated or corrupt at entry " + std::to_string(entry) + " after " +
-				std::to_string(out_.steps.size()) + " complete steps: " + damage;
-			if (!opt_.allow_truncated) fail(msg);
-			out_.truncated = true;
-			warn(msg);
-			break;
-		}
-		out_.entries++;
-		if (IS_CLASS(*obj, CActionCollection))
-		{
-			if (pending)
-			{
-				out_.ignored_entries++;
-				warn("entry " + std::to_string(pending_entry) +
-					 ": action collection without a following sensory frame, ignored (as MRPT's "
-					 "readActionObservationPair does)");
-			}
-			pending = std::dynamic_pointer_cast<CActionCollection>(obj);
-			pending_entry = entry;
-		}
-		else if (IS_CLASS(*obj, CSensoryFrame) && pending)
-		{
-			add_step(pending, pending_entry, std::dynamic_pointer_cast<CSensoryFrame>(obj), entry);
-			pending.reset();
-		}
-		else
+		damage = "unexpected end of data inside the object (" + mrpt_exception_summary(e.what()) + ")";
+	}
+	catch (const std::exception& e)
+	{
+		damage = mrpt_exception_summary(e.what());
+	}
+	if (damage.empty() && !obj) damage = "null object";
+	if (!damage.empty())
+	{
+		if (entry_ == 0) fail("not an MRPT rawlog, or corrupt from the start (entry 0: " + damage + ")");
+		truncated("truncated or corrupt at entry " + std::to_string(entry_) + " after " +
+				  std::to_string(out_.steps.size()) + " complete steps: " + damage);
+		return false;
+	}
+	out_.entries++;
+	take_entry(obj);
+	entry_++;
+	return true;
+}
+
+/** Pairs an action collection with the next sensory frame (as CRawlog::readActionObservationPair);
+ * anything else is ignored. */
+void Reader::take_entry(const mrpt::serialization::CSerializable::Ptr& obj)
+{
+	if (IS_CLASS(*obj, CActionCollection))
+	{
+		if (pending_)
 		{
 			out_.ignored_entries++;
-			if (IS_DERIVED(*obj, mrpt::obs::CObservation)) bare_observations_++;
+			warn("entry " + std::to_string(pending_entry_) +
+				 ": action collection without a following sensory frame, ignored (as MRPT's "
+				 "readActionObservationPair does)");
 		}
-		entry++;
+		pending_ = std::dynamic_pointer_cast<CActionCollection>(obj);
+		pending_entry_ = entry_;
 	}
-	if (pending) out_.ignored_entries++;  // trailing action (normal in the kf-slam demos)
-
-	// A gzip stream cut on an object boundary reads "cleanly": check the trailer's size.
-	uint32_t isize = 0;
-	if (clean_end && gzip_trailer_size(path, isize) && uint32_t(f.getPosition() & 0xffffffffu) != isize)
+	else if (IS_CLASS(*obj, CSensoryFrame) && pending_)
 	{
-		const std::string msg = "truncated gzip stream (" + std::to_string(f.getPosition()) +
-			" bytes decompressed, trailer says " + std::to_string(isize) + " mod 2^32) after entry " +
-			std::to_string(entry) + ", " + std::to_string(out_.steps.size()) + " complete steps";
-		if (!opt_.allow_truncated) fail(msg);
-		out_.truncated = true;
-		warn(msg);
+		add_step(pending_, pending_entry_, std::dynamic_pointer_cast<CSensoryFrame>(obj), entry_);
+		pending_.reset();
 	}
+	else
+	{
+		out_.ignored_entries++;
+		if (IS_DERIVED(*obj, mrpt::obs::CObservation)) bare_observations_++;
+	}
+}
 
+/** A gzip stream cut on an object boundary reads "cleanly": check the trailer's size. */
+void Reader::check_gzip_trailer(const mrpt::io::CFileGZInputStream& f)
+{
+	uint32_t isize = 0;
+	if (gzip_trailer_size(out_.path, isize) && uint32_t(f.getPosition() & 0xffffffffu) != isize)
+		truncated("truncated gzip stream (" + std::to_string(f.getPosition()) + " bytes decompressed, trailer says " +
+				  std::to_string(isize) + " mod 2^32) after entry " + std::to_string(entry_) + ", " +
+				  std::to_string(out_.steps.size()) + " complete steps");
+}
+
+/** Steps, odometry and valid readings must all be there. */
+void Reader::check_contents() const
+{
 	const std::string counts = std::to_string(out_.entries) + " entries, " + std::to_string(out_.steps.size()) + " steps";
 	if (out_.steps.empty())
 	{
@@ -220,6 +316,26 @@ Rawlog Reader::run()
 			why += "; unknown landmark IDs (-1) need data association, which is not supported";
 		fail("no valid bearing-range observation (" + counts + ", " + why + ")");
 	}
+}
+
+Rawlog Reader::run()
+{
+	const std::string& path = out_.path;
+	if (path.empty()) throw std::runtime_error("rawlog: empty file name");
+	if (!mrpt::system::fileExists(path)) fail("file does not exist");
+	if (mrpt::system::directoryExists(path)) fail("is a directory, not a rawlog file");
+
+	mrpt::io::CFileGZInputStream f;
+	std::string open_error;
+	if (!f.open(path, open_error)) fail("cannot open: " + open_error);
+	auto arch = mrpt::serialization::archiveFrom(f);
+	bool clean_end = false;
+	while (!(opt_.max_steps && out_.steps.size() >= opt_.max_steps) && read_entry(f, arch, clean_end))
+	{
+	}
+	if (pending_) out_.ignored_entries++;  // trailing action (normal in the kf-slam demos)
+	if (clean_end) check_gzip_trailer(f);
+	check_contents();
 	out_.distinct_landmarks = ids_.size();
 	return std::move(out_);
 }
@@ -261,79 +377,23 @@ std::string mrpt_exception_summary(const std::string& what)
 RawlogStep RawlogStepConverter::convert(const CActionCollection::Ptr& acts, const CSensoryFrame::Ptr& sf,
 										const std::string& at, const std::function<void(const std::string&)>& warn)
 {
-	auto fail = [&](const std::string& msg) { throw std::invalid_argument(at + ": " + msg); };
-	if (!acts) fail("null action collection");
-	if (!sf) fail("null sensory frame");
+	if (!acts) fail_at(at, "null action collection");
+	if (!sf) fail_at(at, "null sensory frame");
 	RawlogStep s;
 	s.index = steps_;
 	s.actions = acts;
 	s.observations = sf;
+	read_odometry(*acts, s, at);
 
-	// Odometry.
-	s.has_odometry = acts->getFirstMovementEstimation(s.odometry);
-	if (s.has_odometry)
-	{
-		s.odometry_is_2d = !acts->getActionByClass<mrpt::obs::CActionRobotMovement3D>() &&
-			acts->getActionByClass<mrpt::obs::CActionRobotMovement2D>();
-		if (!finite_pose(s.odometry.mean)) fail("odometry mean is not finite");
-		for (int i = 0; i < 6; i++)
-		{
-			for (int j = 0; j < 6; j++)
-				if (!std::isfinite(s.odometry.cov(i, j))) fail("odometry covariance is not finite");
-			if (s.odometry.cov(i, i) < 0) fail("odometry covariance has a negative variance");
-		}
-	}
-	else
-	{
-		s.odometry = mrpt::poses::CPose3DPDFGaussian();
-		s.odometry.cov.setZero();
-	}
-
-	// Bearing-range observations.
-	bool any_skipped = false;
 	std::size_t br_count = 0;
-	std::vector<std::vector<CObservationBearingRange::TMeasurement>> kept_per_obs;
+	std::vector<Measurements> kept_per_obs;
 	for (const auto& o : *sf)
 	{
 		if (!o || !IS_CLASS(*o, CObservationBearingRange)) continue;
 		const auto& br = dynamic_cast<const CObservationBearingRange&>(*o);
 		br_count++;
-		const double stds[3] = {br.sensor_std_range, br.sensor_std_yaw, br.sensor_std_pitch};
-		if (!finite_pose(br.sensorLocationOnRobot)) fail("sensorLocationOnRobot is not finite");
-		for (double v : stds)
-			if (!std::isfinite(v) || v < 0) fail("sensor_std_range/yaw/pitch must be finite and >= 0");
-		if (!s.has_observation)
-		{
-			s.has_observation = true;
-			s.sensor_pose = br.sensorLocationOnRobot;
-			s.sensor_std_range = stds[0];
-			s.sensor_std_yaw = stds[1];
-			s.sensor_std_pitch = stds[2];
-		}
-		else if (
-			!(br.sensorLocationOnRobot == s.sensor_pose) || stds[0] != s.sensor_std_range ||
-			stds[1] != s.sensor_std_yaw || stds[2] != s.sensor_std_pitch)
-		{
-			fail("several CObservationBearingRange with different sensor poses or noise in one sensory frame (not "
-				 "supported)");
-		}
-		std::vector<CObservationBearingRange::TMeasurement> kept;
-		for (std::size_t i = 0; i < br.sensedData.size(); i++)
-		{
-			const auto& m = br.sensedData[i];
-			if (const char* why = invalid_reading(m, require_landmark_ids_))
-			{
-				s.skipped_readings++;
-				any_skipped = true;
-				if (warn)
-					warn(at + ": reading " + std::to_string(i) + " (landmark " + std::to_string(m.landmarkID) +
-						 ") skipped: " + why);
-				continue;
-			}
-			kept.push_back(m);
-			s.readings.push_back({m.landmarkID, m.range, m.yaw, m.pitch});
-		}
-		kept_per_obs.push_back(std::move(kept));
+		take_sensor(br, s, at);
+		kept_per_obs.push_back(keep_valid_readings(br, require_landmark_ids_, s, at, warn));
 	}
 	if (s.has_observation)
 	{
@@ -349,25 +409,8 @@ RawlogStep RawlogStepConverter::convert(const CActionCollection::Ptr& acts, cons
 		s.sensor_std_yaw = last_std_[1];
 		s.sensor_std_pitch = last_std_[2];
 	}
-
 	// Give every consumer (MRPT's EKF too) the same readings: a cleaned copy of the frame.
-	if (any_skipped)
-	{
-		auto clean = std::make_shared<CSensoryFrame>();
-		std::size_t j = 0;
-		for (const auto& o : *sf)
-		{
-			if (o && IS_CLASS(*o, CObservationBearingRange))
-			{
-				auto c = std::make_shared<CObservationBearingRange>(dynamic_cast<const CObservationBearingRange&>(*o));
-				c->sensedData = kept_per_obs[j++];
-				clean->insert(c);
-			}
-			else
-				clean->insert(o);
-		}
-		s.observations = clean;
-	}
+	if (s.skipped_readings > 0) s.observations = cleaned_frame(*sf, kept_per_obs);
 	bearing_range_observations_ += br_count;
 	steps_++;
 	return s;

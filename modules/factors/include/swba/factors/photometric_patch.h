@@ -12,28 +12,14 @@
 #pragma once
 
 #include <swba/core/factor.h>
+#include <swba/core/image.h>
 
 #include <Eigen/Core>
 #include <array>
 #include <memory>
-#include <vector>
 
 namespace swba
 {
-/** A single-channel image of float intensities (row-major, width × height). */
-struct IntensityImage
-{
-	int width = 0;
-	int height = 0;
-	std::vector<float> pixels;  ///< pixels[row * width + col]
-
-	IntensityImage() = default;
-	IntensityImage(int w, int h, float fill = 0.f) : width(w), height(h), pixels(size_t(w) * size_t(h), fill) {}
-	float at(int col, int row) const { return pixels[size_t(row) * size_t(width) + size_t(col)]; }
-	float& at(int col, int row) { return pixels[size_t(row) * size_t(width) + size_t(col)]; }
-	bool empty() const { return width <= 0 || height <= 0; }
-};
-
 /** Result of bilinear sampling: the interpolated value and the gradient of the bilinear
  * interpolant (exact derivative inside a pixel cell; one-sided at cell borders). */
 struct BilinearSample
@@ -51,11 +37,8 @@ bool bilinear_in_bounds(const IntensityImage& image, double u, double v);
  * untouched) when the four neighbours are not all inside the image — never reads out of bounds. */
 bool sample_bilinear(const IntensityImage& image, double u, double v, BilinearSample& out);
 
-/** Pinhole intrinsics (no distortion). */
-struct PatchCameraIntrinsics
-{
-	double fx = 0, fy = 0, cx = 0, cy = 0;
-};
+/** Pinhole intrinsics of the target images (swba/core/image.h). */
+using PatchCameraIntrinsics = PinholeIntrinsics;
 
 /** Size of the patch: 4×4 samples at offsets −2..1 in x and y. */
 constexpr int kPatchSize = 16;

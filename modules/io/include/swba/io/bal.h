@@ -1,7 +1,7 @@
 /** \file bal.h
  * "Bundle Adjustment in the Large" (BAL, Agarwal et al. 2010) problems: reader and writer of the
- * text format, conversion to a swba::Problem with SnavelyReprojectionFactor, PLY output, and the
- * `swba bal` application (read → solve → write).
+ * text format. The problem they define (Snavely cameras, reprojection factors) is built by
+ * swba/problems/bal.h.
  *
  * Format (whitespace separated):
  *   num_cameras num_points num_observations
@@ -12,12 +12,7 @@
  * swba/factors/snavely_reprojection.h. */
 #pragma once
 
-#include <swba/core/loss.h>
-#include <swba/nonlinear/problem.h>
-#include <swba/nonlinear/solver.h>
-
-#include <Eigen/Core>
-#include <memory>
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -75,53 +70,4 @@ BalProblem parse_bal(const std::string& text, const std::string& source = "<bal>
 /** Writes `problem` in the BAL format (numbers with 17 significant digits, so that reading the file
  * back gives the same doubles). Throws std::runtime_error if the file cannot be written. */
 void write_bal(const std::string& path, const BalProblem& problem);
-
-/** Number of observations whose point lies behind its camera (P.z ≥ 0 in the camera frame; the
- * Snavely cameras look along −z). */
-int count_observations_behind_camera(const BalProblem& problem);
-
-/** Camera centres −R(ω)ᵀt, in camera order. */
-std::vector<Eigen::Vector3d> bal_camera_centres(const BalProblem& problem);
-
-/** PLY with the camera centres (green) followed by the points (white). */
-void write_bal_ply(const std::string& path, const BalProblem& problem);
-
-/** The variables created for a BAL problem in a swba::Problem. */
-struct BalVariables
-{
-	std::vector<VariableId> cameras;  ///< Euclidean(9), Group::Kept
-	std::vector<VariableId> points;   ///< Euclidean(3), Group::Eliminable
-	int num_unobserved_cameras = 0;   ///< set constant (they have no factor)
-	int num_unobserved_points = 0;    ///< set constant (they have no factor)
-};
-
-/** Adds one variable per camera and point and one SnavelyReprojectionFactor per observation (with
- * `loss`, null = plain least squares). Cameras/points without observations are set constant. */
-BalVariables add_bal_to_problem(const BalProblem& bal, Problem& problem,
-								std::shared_ptr<const LossFunction> loss = nullptr);
-
-/** Copies the variables' current values back into `bal`. */
-void copy_values_to_bal(const Problem& problem, const BalVariables& vars, BalProblem& bal);
-
-/** Options of the `swba bal` application. */
-struct BalAppOptions
-{
-	std::string problem_path;        ///< BAL file (required)
-	std::string ply_initial;         ///< PLY of the initial values (empty: not written)
-	std::string ply_final;           ///< PLY of the solution (empty: not written)
-	std::string write_problem;       ///< BAL file of the solution (empty: not written)
-	std::string loss = "none";       ///< none | huber | cauchy
-	double loss_scale = 1.0;         ///< loss scale a, in pixels. Default 1.
-	SolverOptions solver;            ///< the LM options (progress_to_stdout is honoured)
-};
-
-struct BalAppResult
-{
-	int num_behind_camera = 0;       ///< initial observations with the point behind the camera
-	Summary summary;
-};
-
-/** Reads, solves (printing the per-iteration table if options.solver.progress_to_stdout, then the
- * full report) and writes the requested outputs. Report lines go to `out`. */
-BalAppResult run_bal_app(const BalAppOptions& options, std::ostream& out);
 }  // namespace swba::io

@@ -1,5 +1,5 @@
 /** \file directba_dataset.h
- * Reader of the course's direct-BA data set (share/data/directba/): images 0.png … N−1.png,
+ * Reader of the direct-BA data set format (share/data/directba/): images 0.png … N−1.png,
  * `poses.txt` (`t tx ty tz qx qy qz qw` per line, camera-from-world T_cw) and `points.txt`
  * (`x y z` + 16 patch intensities per line, world frame). Poses are returned as **world-from-camera**
  * (T_wc = T_cw⁻¹), the convention of swba::PhotometricPatchFactor and of TUM files.
@@ -7,42 +7,47 @@
  * throws std::runtime_error naming the file and the line. */
 #pragma once
 
-#include <swba/factors/photometric_patch.h>
+#include <swba/core/image.h>
 
 #include <mrpt/poses/CPose3D.h>
 
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace swba::io
 {
-/** A point of the data set: world position and its 4×4 host patch (sample order of
- * swba::PhotometricPatchFactor: k = 4·(dx+2) + (dy+2)). */
+/** Number of intensities of a point's host patch in points.txt: 4×4 samples, sample k at the offset
+ * (dx, dy) = (k / 4 − 2, k % 4 − 2) from the host pixel (the layout of swba::PhotometricPatchFactor). */
+constexpr int kDirectBAPatchSize = 16;
+using DirectBAPatch = std::array<double, kDirectBAPatchSize>;
+
+/** A point of the data set: world position and its 4×4 host patch. */
 struct DirectBAPoint
 {
 	Eigen::Vector3d position = Eigen::Vector3d::Zero();
-	PatchValues patch{};
+	DirectBAPatch patch{};
 };
 
 struct DirectBADataset
 {
-	/** Timestamps as written in poses.txt (the course's file has them all equal to 1.46323e+09). */
+	/** Timestamps as written in poses.txt (the shipped file has them all equal to 1.46323e+09). */
 	std::vector<double> timestamps;
 	/** World-from-camera pose of image i. */
 	std::vector<mrpt::poses::CPose3D> world_from_camera;
 	std::vector<DirectBAPoint> points;
 	/** Gray images (one per pose), shared so that factors can hold them. */
 	std::vector<std::shared_ptr<const IntensityImage>> images;
-	PatchCameraIntrinsics intrinsics;
+	PinholeIntrinsics intrinsics;
 };
 
-/** The course's intrinsics (directBA.cpp): fx=277.34 fy=291.402 cx=312.234 cy=239.777. */
-PatchCameraIntrinsics course_directba_intrinsics();
+/** The intrinsics of the shipped data set: fx=277.34 fy=291.402 cx=312.234 cy=239.777. */
+PinholeIntrinsics directba_dataset_intrinsics();
 
 /** Loads an image with mrpt::img::CImage (PNG, JPEG, … as MRPT's build decodes them) and converts
- * it to gray (RGB → luminance; the course's PNGs have R = G = B, so gray = the stored value).
+ * it to gray (RGB → luminance; the shipped PNGs have R = G = B, so gray = the stored value).
  * Throws std::runtime_error if the file is missing or cannot be decoded. */
 IntensityImage load_intensity_image(const std::string& path);
 
@@ -55,9 +60,9 @@ void read_directba_poses(const std::string& path, std::vector<double>& timestamp
 std::vector<DirectBAPoint> read_directba_points(const std::string& path);
 
 /** Reads a whole data set directory: poses.txt, points.txt and images 0.png … (N−1).png for the N
- * poses. `intrinsics` defaults to the course's. */
+ * poses. `intrinsics` defaults to the shipped data set's. */
 DirectBADataset read_directba_dataset(const std::string& dir,
-									  const PatchCameraIntrinsics& intrinsics = course_directba_intrinsics());
+									  const PinholeIntrinsics& intrinsics = directba_dataset_intrinsics());
 
 /** Writes world-from-camera poses as a TUM trajectory (`t x y z qx qy qz qw`, single spaces,
  * 9 significant digits). Throws std::runtime_error if the file cannot be written. */

@@ -1,5 +1,6 @@
 /** \file g2o.h
- * g2o pose graphs: reading, writing, turning them into a swba::Problem and evaluating their cost.
+ * g2o pose graphs: reading and writing (the problem they define, its cost and its initial values:
+ * swba/problems/pose_graph.h, swba/problems/pose_graph_init.h).
  *
  * Supported lines (whitespace separated, one element per line):
  *   VERTEX_SE3:QUAT id x y z qx qy qz qw
@@ -15,19 +16,14 @@
  * in edges or FIX lines, duplicate vertex ids, zero quaternions, information matrices that are not
  * positive definite.
  *
- * 2D graphs are handled natively (poses (x, y, θ), RelativePose2dFactor), not lifted into SE(3). */
+ * 2D graphs are kept as 2D (poses (x, y, θ)), not lifted into SE(3). */
 #pragma once
-
-#include <swba/core/loss.h>
-#include <swba/factors/relative_pose.h>
-#include <swba/nonlinear/problem.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <iosfwd>
 #include <map>
-#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -87,50 +83,4 @@ PoseGraph read_g2o(std::istream& in, const std::string& source_name = "<stream>"
  * read → write → read round trip reproduces every number to the last bit of the normalised values. */
 void write_g2o(const PoseGraph& graph, const std::string& path);
 void write_g2o(const PoseGraph& graph, std::ostream& out);
-
-/** How the gauge (global pose freedom) is removed. */
-enum class PoseGraphGauge
-{
-	FixFirst,  ///< vertices of FIX lines constant; if there are none, the vertex with the lowest id
-	Prior,     ///< FIX lines honoured; if there are none, a strong prior on the lowest-id vertex
-	Free       ///< only FIX lines; the remaining freedom is left to the LM damping
-};
-/** Parses "fix", "prior", "free"; throws std::invalid_argument otherwise. */
-PoseGraphGauge parse_pose_graph_gauge(const std::string& name);
-
-struct PoseGraphProblemOptions
-{
-	PoseGraphGauge gauge = PoseGraphGauge::FixFirst;
-	/** Standard deviation of the gauge prior, in metres and radians (W = I/σ). Default 1e-3. */
-	double prior_sigma = 1e-3;
-	/** Robust loss for every edge (null = plain least squares). Default null. */
-	std::shared_ptr<const LossFunction> loss;
-	/** Rotation error of 3D edges (relative_pose.h). Default G2o: 2·vec(q_ab⁻¹·q_a⁻¹·q_b). */
-	RotationError rotation_error = RotationError::G2o;
-};
-
-/** Parses "g2o", "ceres" (RotationError::CeresExample); throws std::invalid_argument otherwise. */
-RotationError parse_rotation_error(const std::string& name);
-
-/** A Problem built from a PoseGraph, with the map from g2o ids to variables. */
-struct PoseGraphProblem
-{
-	Problem problem;
-	std::map<G2oId, VariableId> variable_of;
-	int num_constant = 0;  ///< vertices held constant (gauge or FIX)
-	bool has_prior = false;
-};
-
-/** One variable per vertex (SE3Manifold, or (x, y, θ) on EuclideanManifold(3) for 2D), one
- * RelativePoseFactor / RelativePose2dFactor per edge with its information, gauge as requested.
- * Throws std::invalid_argument on an empty graph. */
-PoseGraphProblem build_pose_graph_problem(const PoseGraph& graph, const PoseGraphProblemOptions& options = {});
-
-/** Copies the problem's variable values back into the graph's vertices. */
-void update_pose_graph(PoseGraph& graph, const PoseGraphProblem& problem);
-
-/** Cost of the reference model, ½ Σ rᵀΛr over all edges (no loss, no prior), at the graph's
- * vertex values; r as in relative_pose.h, computed here independently with quaternion algebra.
- * Used to compare peers whatever they report themselves. */
-double pose_graph_cost(const PoseGraph& graph, RotationError rotation_error = RotationError::G2o);
 }  // namespace swba::io

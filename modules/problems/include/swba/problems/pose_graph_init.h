@@ -1,4 +1,4 @@
-/** \file g2o_init.h
+/** \file pose_graph_init.h
  * Initial values for pose-graph optimisation, computed from the edges alone (doc/pgo.md, "Initialisation").
  *
  * - File: the vertex values as read (no change).
@@ -15,17 +15,17 @@
  *   sparse solve of the same size.
  *
  * Anchors keep their values: the FIX vertices, or (no FIX lines) the lowest-id vertex — the same
- * vertex the default gauge of build_pose_graph_problem holds constant. A connected component that
- * contains no anchor (a disconnected graph, a vertex without edges) is anchored at its lowest-id
- * vertex, which keeps its file value (counted in PoseGraphInitSummary::extra_anchors). */
+ * vertex the default gauge of build_pose_graph_problem (pose_graph.h) holds constant. A connected
+ * component that contains no anchor (a disconnected graph, a vertex without edges) is anchored at its
+ * lowest-id vertex, which keeps its file value (counted in PoseGraphInitSummary::extra_anchors). */
 #pragma once
 
+#include <swba/factors/relative_pose.h>
 #include <swba/io/g2o.h>
-#include <swba/nonlinear/solver.h>
 
 #include <string>
 
-namespace swba::io
+namespace swba::problems
 {
 enum class PoseGraphInit
 {
@@ -59,15 +59,7 @@ struct PoseGraphInitSummary
 	std::string brief() const;
 };
 
-/** SolverOptions as `swba pgo` uses them (doc/pgo.md, "Performance"): max_iterations 100,
- * dense_max_dim 200 (pose-graph normal equations are very sparse: CHOLMOD beyond 200 unknowns),
- * initial_trust_region_radius kPoseGraphInitialTrustRegion (a nearly Gauss-Newton first step; LM still
- * shrinks it after a rejected step); everything else SolverOptions' defaults. */
-constexpr double kPoseGraphInitialTrustRegion = 1e12;
-constexpr int kPoseGraphDenseMaxDim = 200;
-SolverOptions pose_graph_solver_options();
-
 /** Overwrites the non-anchor vertex values of `graph` with the chosen initial values.
  * Throws std::runtime_error if a linear system cannot be factorised (degenerate information). */
-PoseGraphInitSummary initialize_pose_graph(PoseGraph& graph, const PoseGraphInitOptions& options = {});
-}  // namespace swba::io
+PoseGraphInitSummary initialize_pose_graph(io::PoseGraph& graph, const PoseGraphInitOptions& options = {});
+}  // namespace swba::problems

@@ -1,8 +1,10 @@
-// Pose-graph initialisation: odometry spanning tree and chordal relaxation (see g2o_init.h).
-#include <swba/io/g2o_init.h>
+// Pose-graph initialisation: odometry spanning tree and chordal relaxation (see pose_graph_init.h).
 #include <swba/linear/block_cholesky.h>
+#include <swba/problems/pose_graph_init.h>
 
 #include "angle_wrap.h"
+#include "enum_names.h"
+#include "pose_graph_residual.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/SVD>
@@ -14,11 +16,16 @@
 #include <numeric>
 #include <stdexcept>
 
-namespace swba::io
+namespace swba::problems
 {
 namespace
 {
 using detail::wrap_pm_pi;
+using io::G2oId;
+using io::PoseGraph;
+
+constexpr detail::EnumName<PoseGraphInit> kInitNames[] = {
+	{PoseGraphInit::Chordal, "chordal"}, {PoseGraphInit::Odometry, "odometry"}, {PoseGraphInit::File, "file"}};
 
 Eigen::Matrix2d rot2(double theta)
 {
@@ -146,6 +153,20 @@ struct LinearEdge
 	Eigen::Matrix<double, D, K> y;
 };
 
+/** The edge Ja·x_a + x_b − y between the vertices `ends` (Jb = I for every edge of the
+ * initialisation). The blocks are Eigen expressions, assigned as they come. */
+template <int D, int K, typename JaExpr, typename OmegaExpr, typename YExpr>
+LinearEdge<D, K> linear_edge(const std::pair<int, int>& ends, const JaExpr& Ja, const OmegaExpr& Omega, const YExpr& y)
+{
+	LinearEdge<D, K> e;
+	e.a = ends.first, e.b = ends.second;
+	e.Ja = Ja;
+	e.Jb.setIdentity();
+	e.Omega = Omega;
+	e.y = y;
+	return e;
+}
+
 /** Minimises Σ ‖e‖²_Ω over the non-anchored x (anchored x are inputs): one sparse Cholesky
  * factorisation of the block normal equations, K back-substitutions. `chol` is created on first use
  * and reused by later calls with the same anchors and edge pairs (same pattern: one symbolic analysis). */
@@ -257,12 +278,9 @@ void chordal3(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& ancho
 	for (size_t k = 0; k < g.edges3.size(); k++)
 	{
 		const auto& e = g.edges3[k];
-		auto& r = rot[k];
-		r.a = gi.edges[k].first, r.b = gi.edges[k].second;
-		r.Ja = -e.q.toRotationMatrix().transpose();
-		r.Jb.setIdentity();
-		r.Omega = (e.information.bottomRightCorner<3, 3>().trace() / 3.0) * Eigen::Matrix3d::Identity();
-		r.y.setZero();
+		rot[k] = linear_edge<3, 3>(gi.edges[k], -e.q.toRotationMatrix().transpose(),
+								   (e.information.bottomRightCorner<3, 3>().trace() / 3.0) * Eigen::Matrix3d::Identity(),
+								   Eigen::Matrix3d::Zero());
 	}
 	solve_anchored<3, 3>(anchored, rot, X, chol, "chordal initialisation (rotations)");
 	for (int v = 0; v < n; v++)
@@ -283,18 +301,11 @@ void chordal3(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& ancho
 		const auto& e = g.edges3[k];
 		const auto& qa = g.vertices3.at(e.from).q;
 		const auto& qb = g.vertices3.at(e.to).q;
-		const Eigen::Quaterniond q_est = qa.conjugate() * qb;
-		Eigen::Quaterniond dq = o.rotation_error == RotationError::G2o ? e.q.conjugate() * q_est : e.q * q_est.conjugate();
-		if (dq.w() < 0) dq.coeffs() = -dq.coeffs();
 		const Eigen::Matrix3d L_tt = e.information.topLeftCorner<3, 3>();
-		const Eigen::Vector3d c = L_tt.ldlt().solve(e.information.topRightCorner<3, 3>() * (2.0 * dq.vec()));
+		const Eigen::Vector3d c = L_tt.ldlt().solve(e.information.topRightCorner<3, 3>() *
+													detail::rotation_residual(e.q, qa, qb, o.rotation_error));
 		const Eigen::Matrix3d Ra = qa.toRotationMatrix();
-		auto& r = pos[k];
-		r.a = gi.edges[k].first, r.b = gi.edges[k].second;
-		r.Ja = -Eigen::Matrix3d::Identity();
-		r.Jb.setIdentity();
-		r.Omega = Ra * L_tt * Ra.transpose();
-		r.y = Ra * (e.t - c);
+		pos[k] = linear_edge<3, 1>(gi.edges[k], -Eigen::Matrix3d::Identity(), Ra * L_tt * Ra.transpose(), Ra * (e.t - c));
 	}
 	solve_anchored<3, 1>(anchored, pos, T, chol, "chordal initialisation (positions)");
 	for (int v = 0; v < n; v++) g.vertices3.at(gi.ids[v]).t = T[v];
@@ -339,12 +350,8 @@ void chordal2(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& ancho
 	for (size_t k = 0; k < g.edges2.size(); k++)
 	{
 		const auto& e = g.edges2[k];
-		auto& r = rot[k];
-		r.a = gi.edges[k].first, r.b = gi.edges[k].second;
-		r.Ja = -rot2(e.theta);
-		r.Jb.setIdentity();
-		r.Omega = e.information(2, 2) * Eigen::Matrix2d::Identity();
-		r.y.setZero();
+		rot[k] = linear_edge<2, 1>(gi.edges[k], -rot2(e.theta), e.information(2, 2) * Eigen::Matrix2d::Identity(),
+								   Eigen::Vector2d::Zero());
 	}
 	solve_anchored<2, 1>(anchored, rot, Z, chol, "chordal initialisation (rotations)");
 	for (int v = 0; v < n; v++)
@@ -367,12 +374,8 @@ void chordal2(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& ancho
 		const Eigen::Matrix2d L_pp = e.information.topLeftCorner<2, 2>();
 		const Eigen::Vector2d c = L_pp.ldlt().solve(e.information.topRightCorner<2, 1>() * r_theta);
 		const Eigen::Matrix2d Ra = rot2(va.theta);
-		auto& r = pos[k];
-		r.a = gi.edges[k].first, r.b = gi.edges[k].second;
-		r.Ja = -Eigen::Matrix2d::Identity();
-		r.Jb.setIdentity();
-		r.Omega = Ra * L_pp * Ra.transpose();
-		r.y = Ra * (Eigen::Vector2d(e.x, e.y) - c);
+		pos[k] = linear_edge<2, 1>(gi.edges[k], -Eigen::Matrix2d::Identity(), Ra * L_pp * Ra.transpose(),
+								   Ra * (Eigen::Vector2d(e.x, e.y) - c));
 	}
 	solve_anchored<2, 1>(anchored, pos, P, chol, "chordal initialisation (positions)");
 	for (int v = 0; v < n; v++)
@@ -385,22 +388,10 @@ void chordal2(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& ancho
 
 PoseGraphInit parse_pose_graph_init(const std::string& name)
 {
-	if (name == "file") return PoseGraphInit::File;
-	if (name == "odometry") return PoseGraphInit::Odometry;
-	if (name == "chordal") return PoseGraphInit::Chordal;
-	throw std::invalid_argument("unknown initialisation '" + name + "' (expected chordal, odometry or file)");
+	return detail::parse_enum(name, kInitNames, "initialisation");
 }
 
-std::string to_string(PoseGraphInit init)
-{
-	switch (init)
-	{
-		case PoseGraphInit::File: return "file";
-		case PoseGraphInit::Odometry: return "odometry";
-		case PoseGraphInit::Chordal: return "chordal";
-	}
-	return "?";
-}
+std::string to_string(PoseGraphInit init) { return detail::enum_name(init, kInitNames); }
 
 std::string PoseGraphInitSummary::brief() const
 {
@@ -408,15 +399,6 @@ std::string PoseGraphInitSummary::brief() const
 	std::snprintf(buf, sizeof buf, "%s: %d component(s), %d anchor(s) (%d for components without a fixed vertex), %.3f s",
 				  to_string(method).c_str(), num_components, num_anchors, extra_anchors, time_s);
 	return buf;
-}
-
-SolverOptions pose_graph_solver_options()
-{
-	SolverOptions o;
-	o.max_iterations = 100;
-	o.dense_max_dim = kPoseGraphDenseMaxDim;
-	o.initial_trust_region_radius = kPoseGraphInitialTrustRegion;
-	return o;
 }
 
 PoseGraphInitSummary initialize_pose_graph(PoseGraph& g, const PoseGraphInitOptions& o)
@@ -440,4 +422,4 @@ PoseGraphInitSummary initialize_pose_graph(PoseGraph& g, const PoseGraphInitOpti
 	s.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	return s;
 }
-}  // namespace swba::io
+}  // namespace swba::problems

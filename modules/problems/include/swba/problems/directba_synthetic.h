@@ -14,13 +14,13 @@
 
 #include <cstdint>
 
-namespace swba::io
+namespace swba::problems
 {
 struct SyntheticDirectBAOptions
 {
 	int width = 640, height = 480;
-	/** Intrinsics: the course's (fx=277.34 fy=291.402 cx=312.234 cy=239.777) by default. */
-	PatchCameraIntrinsics intrinsics = course_directba_intrinsics();
+	/** Intrinsics: those of the shipped data set (fx=277.34 fy=291.402 cx=312.234 cy=239.777) by default. */
+	PinholeIntrinsics intrinsics = io::directba_dataset_intrinsics();
 	/** Number of cameras (≥ 2). Default 6. */
 	int num_cameras = 6;
 	/** Host-pixel grid step (pixels) in each host image; hosts are the first and the last camera.
@@ -53,9 +53,9 @@ struct SyntheticDirectBAOptions
 struct SyntheticDirectBA
 {
 	/** Ground-truth poses and points; images rendered at the true poses (timestamps = index). */
-	DirectBADataset truth;
+	io::DirectBADataset truth;
 	/** Same images, perturbed poses (cameras ≥ fixed_cameras) and points: the optimiser's start. */
-	DirectBADataset initial;
+	io::DirectBADataset initial;
 	/** Host camera of each point. */
 	std::vector<int> host_camera;
 };
@@ -65,13 +65,13 @@ double synthetic_room_texture(int plane, const Eigen::Vector3d& p);
 
 /** Casts the ray of pixel (u, v) of camera T_wc into the room; returns the hit point and plane id.
  * False if the ray misses (cannot happen for a camera inside the room). */
-bool synthetic_room_raycast(const mrpt::poses::CPose3D& world_from_camera, const PatchCameraIntrinsics& K,
+bool synthetic_room_raycast(const mrpt::poses::CPose3D& world_from_camera, const PinholeIntrinsics& K,
 							double u, double v, Eigen::Vector3d& hit, int& plane);
 
 /** Renders the room from T_wc (pixel centres at integer coordinates). */
-IntensityImage render_synthetic_room(const mrpt::poses::CPose3D& world_from_camera, const PatchCameraIntrinsics& K,
+IntensityImage render_synthetic_room(const mrpt::poses::CPose3D& world_from_camera, const PinholeIntrinsics& K,
 									 int width, int height, bool quantize);
 
 /** Builds the synthetic data set; throws std::invalid_argument on invalid options. Deterministic. */
 SyntheticDirectBA make_synthetic_directba(const SyntheticDirectBAOptions& options = {});
-}  // namespace swba::io
+}  // namespace swba::problems

@@ -1,85 +1,23 @@
 /** \file monoba.h
- * Monocular bundle adjustment on a synthetic scene (seed 000's TestMonoBA) and the gauge study of
- * issue 2 (free / fixed / prior gauge, prior-weight sweep after Zhang, Gallego & Scaramuzza 2018).
- *
- * Scene: N cameras on a circular arc of radius r looking along +z (camera n at angle
- * θ_n = n·(π/2)/N about the world z axis, t_n = (r cos θ_n − r, r sin θ_n, sin 2θ_n)), M points
- * uniform in [−4, 4] × [−4, 4] × [4, 8] m. Camera poses are T_wc (camera-to-world, SE3Manifold).
- * Each point is an inverse depth λ (1-D, Group::Eliminable) in its first observing camera (the host);
- * its host bearing is fixed to the noisy first observation. Observations are on the normalised image
- * plane with Gaussian noise σ (per coordinate). The host observation defines the bearing; the other
- * observations become MonocularInverseDepthFactor's whitened by 1/σ. See doc/monoba.md. */
+ * `swba monoba`: monocular bundle adjustment on a synthetic scene (swba/problems/monoba.h) and the
+ * gauge study: free / fixed / prior gauge, and the prior-weight sweep after Zhang, Gallego &
+ * Scaramuzza 2018. The host observation of each point defines its bearing; the other observations
+ * become MonocularInverseDepthFactor's whitened by 1/σ. See doc/monoba.md. */
 #pragma once
 
+#include <swba/nonlinear/gauge.h>  // GaugeMode, shared with the sliding window
 #include <swba/nonlinear/problem.h>
 #include <swba/nonlinear/solver.h>
+#include <swba/problems/monoba.h>
 
 #include <mrpt/poses/CPose3D.h>
 
-#include <Eigen/Core>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
-#include <swba/nonlinear/gauge.h>
-
-namespace swba::estimators
+namespace swba::apps
 {
-// GaugeMode, parse_gauge_mode, to_string(GaugeMode): swba/nonlinear/gauge.h (shared with the window).
-
-struct MonoBASceneOptions
-{
-	/** Number of cameras N (≥ 2). Default 3. */
-	int cameras = 3;
-	/** Number of points M (≥ 1). Default 20. */
-	int points = 20;
-	/** Radius of the camera arc, m. Default 8. */
-	double arc_radius_m = 8.0;
-	/** σ of the observation noise on the normalised image plane (≥ 0). Default 1/460 (one pixel
-	 * at a focal length of 460 px, EuRoC-like). Factors are whitened by 1/σ (by 460 when σ = 0). */
-	double noise = 1.0 / 460.0;
-	/** σ of the perturbation of the initial depths, m: λ₀ = 1/(z + n), n ~ N(0, σ²), redrawn while
-	 * z + n < 0.5 m (seed 000 uses σ = 1). Default 1. */
-	double depth_noise_m = 1.0;
-	/** Initial pose perturbation of the cameras with index ≥ `pose_noise_from` (right perturbation,
-	 * translation σ in m, rotation σ in rad per axis). Default 0 (poses start at ground truth, as seed 000). */
-	double pose_noise_m = 0.0;
-	double pose_noise_rad = 0.0;
-	/** First camera index that receives pose noise (the anchors before it start at ground truth). Default 2. */
-	int pose_noise_from = 2;
-	/** RNG seed (std::mt19937). Default 0. */
-	unsigned seed = 0;
-
-	bool is_valid(std::string* why) const;
-};
-
-struct MonoBAObservation
-{
-	int camera = 0;
-	Eigen::Vector2d uv;  ///< noisy observation on the normalised image plane
-};
-
-struct MonoBAPoint
-{
-	Eigen::Vector3d world;          ///< ground-truth position, m
-	int host = 0;                   ///< first observing camera
-	Eigen::Vector2d host_bearing;   ///< the host's noisy observation (fixed bearing [u, v, 1])
-	double true_inverse_depth = 0;  ///< 1 / z of the true point in the host frame
-	double initial_inverse_depth = 0;
-	std::vector<MonoBAObservation> observations;  ///< by the other cameras (one factor each)
-};
-
-struct MonoBAScene
-{
-	MonoBASceneOptions options;
-	std::vector<mrpt::poses::CPose3D> true_poses;     ///< T_wc
-	std::vector<mrpt::poses::CPose3D> initial_poses;  ///< T_wc
-	std::vector<MonoBAPoint> points;
-};
-
-/** Generates the scene; deterministic for a given seed. Points seen by fewer than two cameras
- * (z ≤ 0.1 m in the camera) are redrawn. Throws std::invalid_argument on invalid options. */
-MonoBAScene make_monoba_scene(const MonoBASceneOptions& options);
-
 struct MonoBAOptions
 {
 	/** Gauge handling. Default Fixed. */
@@ -90,7 +28,7 @@ struct MonoBAOptions
 	/** W ≥ 0: prior information W·I (6×6, order [ρ, ω] in m and rad) on each anchor pose at its initial
 	 * value. W = 0 adds no prior factor (then identical to Free). Default 1e4. */
 	double prior_weight = 1e4;
-	/** LM options. */
+	/** LM options. Default SolverOptions' (50 iterations, 1 thread). */
 	SolverOptions solver;
 
 	bool is_valid(std::string* why) const;
@@ -107,7 +45,7 @@ struct MonoBAProblem
 
 /** Builds the problem at the scene's initial values. Throws std::invalid_argument when the options
  * are invalid or K exceeds the number of cameras. */
-MonoBAProblem build_monoba_problem(const MonoBAScene& scene, const MonoBAOptions& options);
+MonoBAProblem build_monoba_problem(const problems::MonoBAScene& scene, const MonoBAOptions& options);
 
 /** Errors of a solution against the ground truth of its scene.
  * "raw": in the problem's own frame (meaningful for Fixed/Prior, which anchor the gauge at the
@@ -126,7 +64,7 @@ struct MonoBAErrors
 	double camera0_drift_deg = 0;       ///< rotation angle of R₀,gtᵀR₀, raw
 };
 
-MonoBAErrors monoba_errors(const MonoBAScene& scene, const std::vector<mrpt::poses::CPose3D>& poses,
+MonoBAErrors monoba_errors(const problems::MonoBAScene& scene, const std::vector<mrpt::poses::CPose3D>& poses,
 						   const std::vector<double>& inverse_depths);
 
 struct MonoBAResult
@@ -140,16 +78,16 @@ struct MonoBAResult
 
 /** Builds, solves and evaluates. `repetitions` ≥ 1 solves from the same initial values (the solver is
  * deterministic: the results are those of the first solve) to take the median time. */
-MonoBAResult run_monoba(const MonoBAScene& scene, const MonoBAOptions& options, int repetitions = 1);
+MonoBAResult run_monoba(const problems::MonoBAScene& scene, const MonoBAOptions& options, int repetitions = 1);
 
 /** The text report: options, solver summary, per-camera translations vs ground truth, per-point
  * inverse depth (ground truth / noisy initial / optimised) and the error summary. Deterministic
  * except for the times printed by the solver summary when `with_times`. */
-std::string format_monoba_report(const MonoBAScene& scene, const MonoBAOptions& options,
+std::string format_monoba_report(const problems::MonoBAScene& scene, const MonoBAOptions& options,
 								 const MonoBAResult& result, bool with_times = true);
 
 /** The prior-weight sweep. */
-struct SweepOptions
+struct MonoBASweepOptions
 {
 	/** Prior weights W; default 0, 1, 10, …, 1e10. */
 	std::vector<double> weights;
@@ -160,12 +98,12 @@ struct SweepOptions
 	/** Also add reference rows for the Free and Fixed gauges. Default true. */
 	bool reference_rows = true;
 
-	SweepOptions();
+	MonoBASweepOptions();
 	bool is_valid(std::string* why) const;
 };
 
 /** One row of the sweep table: means over the seeds. */
-struct SweepRow
+struct MonoBASweepRow
 {
 	std::string gauge;  ///< "prior", "free", "fixed"
 	double weight = 0;  ///< W (prior rows)
@@ -182,10 +120,38 @@ struct SweepRow
 
 /** Runs the sweep: every gauge/weight on the same scenes (options.gauge is ignored; options.anchors
  * is the K of the prior and fixed rows). */
-std::vector<SweepRow> run_prior_weight_sweep(const MonoBASceneOptions& scene, const MonoBAOptions& options,
-											 const SweepOptions& sweep);
+std::vector<MonoBASweepRow> run_prior_weight_sweep(const problems::MonoBASceneOptions& scene, const MonoBAOptions& options,
+											 const MonoBASweepOptions& sweep);
 
 /** Fixed-width text table with a header comment (`#`) describing the run. */
-std::string format_sweep_table(const std::vector<SweepRow>& rows, const MonoBASceneOptions& scene,
-							   const MonoBAOptions& options, const SweepOptions& sweep);
-}  // namespace swba::estimators
+std::string format_sweep_table(const std::vector<MonoBASweepRow>& rows, const problems::MonoBASceneOptions& scene,
+							   const MonoBAOptions& options, const MonoBASweepOptions& sweep);
+
+/** Options of `swba monoba`: one adjustment of a scene, or the prior-weight sweep. */
+struct MonoBAAppOptions
+{
+	/** The scene (default: 3 cameras, 20 points, seed 0); in the sweep the first of the seeds. */
+	problems::MonoBASceneOptions scene;
+	/** Gauge, anchors K, prior weight, LM options. The sweep ignores the gauge and the weight. */
+	MonoBAOptions adjustment;
+	/** Run the prior-weight sweep instead of one adjustment. Default false. */
+	bool sweep = false;
+	/** Sweep only: seeds scene.seed … scene.seed + sweep_seeds − 1 are averaged. Default 1. */
+	int sweep_seeds = 1;
+	/** Solves per run for the median time (one adjustment or each sweep entry). Default 1. */
+	int repetitions = 1;
+	/** Also write the report / sweep table to this file (empty: not written). */
+	std::string out_path;
+
+	/** The sweep's options: default weights and reference rows, sweep_seeds and repetitions. */
+	MonoBASweepOptions sweep_options() const;
+	/** False, with the reason in `why`, on an invalid scene, adjustment or sweep. */
+	bool is_valid(std::string* why) const;
+};
+
+/** Runs the adjustment (prints its report) or the sweep (prints its table) to `out` and writes
+ * options.out_path. Returns the text printed. Throws std::invalid_argument on invalid options,
+ * std::runtime_error when the adjustment fails (after printing the report) or the file cannot be
+ * written. */
+std::string run_monoba_app(const MonoBAAppOptions& options, std::ostream& out);
+}  // namespace swba::apps

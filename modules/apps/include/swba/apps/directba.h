@@ -1,20 +1,22 @@
 /** \file directba.h
- * Direct (photometric) bundle adjustment over a swba::io::DirectBADataset: one
+ * `swba directba`: direct (photometric) bundle adjustment over a swba::io::DirectBADataset: one
  * PhotometricPatchFactor per (point, camera) pair, points eliminated by Schur (Group::Eliminable),
  * the first `fixed_cameras` poses held constant (gauge), solved by swba::solve.
- * Also the synthetic check: the same adjustment on io::make_synthetic_directba() with errors
+ * Also the synthetic check: the same adjustment on problems::make_synthetic_directba() with errors
  * against ground truth. See doc/directba.md. */
 #pragma once
 
+#include <swba/factors/photometric_patch.h>
 #include <swba/io/directba_dataset.h>
-#include <swba/io/directba_synthetic.h>
 #include <swba/nonlinear/solver.h>
+#include <swba/problems/directba_synthetic.h>
 
 #include <cmath>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
-namespace swba::estimators
+namespace swba::apps
 {
 struct DirectBAOptions
 {
@@ -70,30 +72,65 @@ DirectBAStats direct_ba_stats(const io::DirectBADataset& data, const std::vector
 							  const std::vector<Eigen::Vector3d>& points, const DirectBAOptions& options);
 
 /** Errors of poses/points against ground truth. */
-struct GroundTruthErrors
+struct DirectBAGroundTruthErrors
 {
 	double pose_translation_max_m = 0, pose_rotation_max_deg = 0;
 	double point_rms_m = 0, point_max_m = 0;
 	/** Displacement of the projections (all in-image point×camera pairs) vs ground truth, pixels. */
 	double reprojection_mean_px = 0, reprojection_max_px = 0;
 };
-GroundTruthErrors ground_truth_errors(const io::DirectBADataset& truth,
-									  const std::vector<mrpt::poses::CPose3D>& poses,
-									  const std::vector<Eigen::Vector3d>& points);
+DirectBAGroundTruthErrors direct_ba_ground_truth_errors(const io::DirectBADataset& truth,
+														const std::vector<mrpt::poses::CPose3D>& poses,
+														const std::vector<Eigen::Vector3d>& points);
 
 struct SyntheticDirectBAResult
 {
 	DirectBAResult result;
-	GroundTruthErrors initial_errors, final_errors;
+	DirectBAGroundTruthErrors initial_errors, final_errors;
 	int num_points = 0, num_cameras = 0;
 };
 
 /** Renders the synthetic room, perturbs it and runs run_direct_ba(); the options' fixed_cameras is
  * set to the scene's (cameras left at ground truth). */
-SyntheticDirectBAResult run_synthetic_direct_ba(const io::SyntheticDirectBAOptions& scene,
+SyntheticDirectBAResult run_synthetic_direct_ba(const problems::SyntheticDirectBAOptions& scene,
 												DirectBAOptions options);
 
 /** Human-readable report lines (cost, RMS, dropped, motion). */
 std::string format_direct_ba_report(const DirectBAResult& r);
-std::string format_ground_truth_errors(const GroundTruthErrors& before, const GroundTruthErrors& after);
-}  // namespace swba::estimators
+std::string format_direct_ba_ground_truth_errors(const DirectBAGroundTruthErrors& before,
+												const DirectBAGroundTruthErrors& after);
+
+/** Options of `swba directba`: the data set (or the synthetic room), the adjustment, the outputs. */
+struct DirectBAAppOptions
+{
+	/** Data set directory (poses.txt, points.txt, 0.png … N−1.png); empty with `synthetic`. */
+	std::string dataset_dir;
+	/** Run the synthetic check instead: render `scene`, perturb, adjust, compare with ground truth. */
+	bool synthetic = false;
+	/** The synthetic room; its fixed_cameras (default 2) replaces adjustment.fixed_cameras. */
+	problems::SyntheticDirectBAOptions scene;
+	/** The adjustment (σ, Huber threshold, fixed cameras: default 1, border, LM options). */
+	DirectBAOptions adjustment;
+	/** Data set only: PLY of the initial / optimised cameras and points (empty: not written). */
+	std::string ply_initial, ply_final;
+	/** Data set only: directory for poses_initial.tum, poses_final.tum and points_final.ply, created
+	 * (empty: not written). */
+	std::string out_dir;
+
+	/** False, with the reason in `why`: invalid adjustment options, a directory with `synthetic` or
+	 * none without. */
+	bool is_valid(std::string* why) const;
+};
+
+struct DirectBAAppResult
+{
+	DirectBAResult result;
+	/** Synthetic check: poses within 1 mm / 0.05° and every point within 1 cm of the ground truth. */
+	bool synthetic_pass = false;
+};
+
+/** Runs the adjustment on the data set (or the synthetic check) and prints the report to `out`.
+ * Throws std::invalid_argument on invalid options, std::runtime_error on unreadable data,
+ * unwritable outputs or a failed optimisation of the data set (after the report). */
+DirectBAAppResult run_directba_app(const DirectBAAppOptions& options, std::ostream& out);
+}  // namespace swba::apps

@@ -1,9 +1,9 @@
-// Internal to modules/io: angle wrapping shared by the 2D pose-graph residuals and initialisation.
+// Internal to modules/problems: angle wrapping shared by the 2D pose-graph residuals and initialisation.
 #pragma once
 
 #include <cmath>
 
-namespace swba::io::detail
+namespace swba::problems::detail
 {
 /** a wrapped into (−π, π] by std::remainder. Not mrpt::math::wrapToPi, which computes
  * wrapTo2Pi(a + π) − π and so loses the low bits of small angles (residuals near convergence). */
@@ -13,4 +13,4 @@ inline double wrap_pm_pi(double a)
 	if (a <= -M_PI) a += 2.0 * M_PI;
 	return a;
 }
-}  // namespace swba::io::detail
+}  // namespace swba::problems::detail

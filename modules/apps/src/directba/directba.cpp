@@ -1,5 +1,7 @@
+// Direct (photometric) bundle adjustment: the problem, its statistics, the motion of the variables,
+// the errors against ground truth and the reports (see directba.h and doc/directba.md).
+#include <swba/apps/directba.h>
 #include <swba/core/manifold.h>
-#include <swba/estimators/directba.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -7,7 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace swba::estimators
+namespace swba::apps
 {
 namespace
 {
@@ -41,6 +43,73 @@ void check_data(const io::DirectBADataset& data)
 									std::to_string(data.world_from_camera.size()) + " poses");
 	for (const auto& img : data.images)
 		if (!img || img->empty()) throw std::invalid_argument("directba: empty image");
+}
+/** The adjustment as a swba::Problem: poses (the first fixed_cameras constant), points eliminated,
+ * one whitened, robustified PhotometricPatchFactor per (point, camera). */
+struct PhotometricProblem
+{
+	Problem problem;
+	std::vector<VariableId> poses, points;
+	int num_factors = 0;
+};
+
+PhotometricProblem build_photometric_problem(const io::DirectBADataset& data, const DirectBAOptions& options)
+{
+	PhotometricProblem pp;
+	const int n = static_cast<int>(data.world_from_camera.size());
+	for (int j = 0; j < n; j++)
+	{
+		pp.poses.push_back(pp.problem.add_pose(data.world_from_camera[j], Group::Kept));
+		if (j < options.fixed_cameras) pp.problem.set_constant(pp.poses.back());
+	}
+	const auto r3 = euclidean_manifold(3);
+	const auto loss = make_huber(options.huber_delta);
+	for (size_t i = 0; i < data.points.size(); i++)
+	{
+		pp.points.push_back(pp.problem.add_variable(data.points[i].position.data(), r3, Group::Eliminable));
+		for (int j = 0; j < n; j++)
+		{
+			auto f = std::make_shared<PhotometricPatchFactor>(data.points[i].patch, data.images[j], data.intrinsics,
+															  options.factor);
+			f->set_sigma(options.sigma);
+			pp.problem.add_factor(f, {pp.poses[j], pp.points.back()}, loss);
+			pp.num_factors++;
+		}
+	}
+	return pp;
+}
+
+/** How far the adjustment moved the cameras (centres, rotation angles) and the points. */
+DirectBAMotion motion(const std::vector<mrpt::poses::CPose3D>& initial_poses,
+					  const std::vector<Eigen::Vector3d>& initial_points,
+					  const std::vector<mrpt::poses::CPose3D>& poses, const std::vector<Eigen::Vector3d>& points)
+{
+	DirectBAMotion m;
+	const int n = static_cast<int>(poses.size());
+	double t2 = 0, r2 = 0;
+	for (int j = 0; j < n; j++)
+	{
+		const double dt = (centre(poses[j]) - centre(initial_poses[j])).norm();
+		const double dr = rotation_angle_deg(initial_poses[j], poses[j]);
+		m.pose_translation_max = std::max(m.pose_translation_max, dt);
+		m.pose_rotation_max_deg = std::max(m.pose_rotation_max_deg, dr);
+		t2 += dt * dt;
+		r2 += dr * dr;
+	}
+	m.pose_translation_rms = std::sqrt(t2 / n);
+	m.pose_rotation_rms_deg = std::sqrt(r2 / n);
+	std::vector<double> d;
+	d.reserve(points.size());
+	for (size_t i = 0; i < points.size(); i++) d.push_back((points[i] - initial_points[i]).norm());
+	if (!d.empty())
+	{
+		double sum = 0;
+		for (double e : d) sum += e;
+		m.point_mean = sum / double(d.size());
+		m.point_max = *std::max_element(d.begin(), d.end());
+		m.point_median = median(d);
+	}
+	return m;
 }
 }  // namespace
 
@@ -117,71 +186,28 @@ DirectBAResult run_direct_ba(const io::DirectBADataset& data, const DirectBAOpti
 	for (const auto& p : data.points) initial_points.push_back(p.position);
 	res.before = direct_ba_stats(data, data.world_from_camera, initial_points, options);
 
-	Problem problem;
-	std::vector<VariableId> pose_ids, point_ids;
-	for (int j = 0; j < n; j++)
-	{
-		pose_ids.push_back(problem.add_pose(data.world_from_camera[j], Group::Kept));
-		if (j < options.fixed_cameras) problem.set_constant(pose_ids.back());
-	}
-	const auto r3 = euclidean_manifold(3);
-	const auto loss = make_huber(options.huber_delta);
-	for (size_t i = 0; i < data.points.size(); i++)
-	{
-		point_ids.push_back(problem.add_variable(data.points[i].position.data(), r3, Group::Eliminable));
-		for (int j = 0; j < n; j++)
-		{
-			auto f = std::make_shared<PhotometricPatchFactor>(data.points[i].patch, data.images[j], data.intrinsics,
-															  options.factor);
-			f->set_sigma(options.sigma);
-			problem.add_factor(f, {pose_ids[j], point_ids.back()}, loss);
-			res.num_factors++;
-		}
-	}
+	PhotometricProblem pp = build_photometric_problem(data, options);
+	res.num_factors = pp.num_factors;
+	res.summary = solve(pp.problem, options.solver);
 
-	res.summary = solve(problem, options.solver);
-
-	for (int j = 0; j < n; j++) res.poses.push_back(problem.pose(pose_ids[j]));
-	for (auto id : point_ids)
+	for (int j = 0; j < n; j++) res.poses.push_back(pp.problem.pose(pp.poses[j]));
+	for (auto id : pp.points)
 	{
-		const double* p = problem.value(id);
+		const double* p = pp.problem.value(id);
 		res.points.emplace_back(p[0], p[1], p[2]);
 	}
 	res.after = direct_ba_stats(data, res.poses, res.points, options);
-
-	// Motion of the variables.
-	double t2 = 0, r2 = 0;
-	for (int j = 0; j < n; j++)
-	{
-		const double dt = (centre(res.poses[j]) - centre(data.world_from_camera[j])).norm();
-		const double dr = rotation_angle_deg(data.world_from_camera[j], res.poses[j]);
-		res.motion.pose_translation_max = std::max(res.motion.pose_translation_max, dt);
-		res.motion.pose_rotation_max_deg = std::max(res.motion.pose_rotation_max_deg, dr);
-		t2 += dt * dt;
-		r2 += dr * dr;
-	}
-	res.motion.pose_translation_rms = std::sqrt(t2 / n);
-	res.motion.pose_rotation_rms_deg = std::sqrt(r2 / n);
-	std::vector<double> d;
-	d.reserve(res.points.size());
-	for (size_t i = 0; i < res.points.size(); i++) d.push_back((res.points[i] - initial_points[i]).norm());
-	if (!d.empty())
-	{
-		double sum = 0;
-		for (double e : d) sum += e;
-		res.motion.point_mean = sum / double(d.size());
-		res.motion.point_max = *std::max_element(d.begin(), d.end());
-		res.motion.point_median = median(d);
-	}
+	res.motion = motion(data.world_from_camera, initial_points, res.poses, res.points);
 	return res;
 }
 
-GroundTruthErrors ground_truth_errors(const io::DirectBADataset& truth, const std::vector<mrpt::poses::CPose3D>& poses,
-									  const std::vector<Eigen::Vector3d>& points)
+DirectBAGroundTruthErrors direct_ba_ground_truth_errors(const io::DirectBADataset& truth,
+														const std::vector<mrpt::poses::CPose3D>& poses,
+														const std::vector<Eigen::Vector3d>& points)
 {
-	GroundTruthErrors e;
+	DirectBAGroundTruthErrors e;
 	if (poses.size() != truth.world_from_camera.size() || points.size() != truth.points.size())
-		throw std::invalid_argument("ground_truth_errors: sizes differ from the ground truth");
+		throw std::invalid_argument("direct_ba_ground_truth_errors: sizes differ from the ground truth");
 	for (size_t j = 0; j < poses.size(); j++)
 	{
 		e.pose_translation_max_m =
@@ -228,18 +254,18 @@ GroundTruthErrors ground_truth_errors(const io::DirectBADataset& truth, const st
 	return e;
 }
 
-SyntheticDirectBAResult run_synthetic_direct_ba(const io::SyntheticDirectBAOptions& scene, DirectBAOptions options)
+SyntheticDirectBAResult run_synthetic_direct_ba(const problems::SyntheticDirectBAOptions& scene, DirectBAOptions options)
 {
-	const io::SyntheticDirectBA syn = io::make_synthetic_directba(scene);
+	const problems::SyntheticDirectBA syn = problems::make_synthetic_directba(scene);
 	options.fixed_cameras = scene.fixed_cameras;
 	SyntheticDirectBAResult out;
 	out.num_points = static_cast<int>(syn.truth.points.size());
 	out.num_cameras = static_cast<int>(syn.truth.world_from_camera.size());
 	std::vector<Eigen::Vector3d> p0;
 	for (const auto& p : syn.initial.points) p0.push_back(p.position);
-	out.initial_errors = ground_truth_errors(syn.truth, syn.initial.world_from_camera, p0);
+	out.initial_errors = direct_ba_ground_truth_errors(syn.truth, syn.initial.world_from_camera, p0);
 	out.result = run_direct_ba(syn.initial, options);
-	out.final_errors = ground_truth_errors(syn.truth, out.result.poses, out.result.points);
+	out.final_errors = direct_ba_ground_truth_errors(syn.truth, out.result.poses, out.result.points);
 	return out;
 }
 
@@ -265,7 +291,7 @@ std::string format_direct_ba_report(const DirectBAResult& r)
 	return os.str();
 }
 
-std::string format_ground_truth_errors(const GroundTruthErrors& b, const GroundTruthErrors& a)
+std::string format_direct_ba_ground_truth_errors(const DirectBAGroundTruthErrors& b, const DirectBAGroundTruthErrors& a)
 {
 	char buf[768];
 	std::snprintf(buf, sizeof(buf),
@@ -280,4 +306,4 @@ std::string format_ground_truth_errors(const GroundTruthErrors& b, const GroundT
 				  b.reprojection_max_px, a.reprojection_mean_px, a.reprojection_max_px);
 	return buf;
 }
-}  // namespace swba::estimators
+}  // namespace swba::apps

@@ -1,0 +1,70 @@
+// The `swba bal` application: read a BAL problem, solve it with swba::solve, write PLY/BAL outputs.
+#include <swba/apps/bal.h>
+#include <swba/io/bal.h>
+#include <swba/problems/bal.h>
+
+#include <ostream>
+#include <stdexcept>
+
+namespace swba::apps
+{
+namespace
+{
+void write_ply_of(const std::string& path, const io::BalProblem& bal, std::ostream& out)
+{
+	if (path.empty()) return;
+	problems::write_bal_ply(path, bal);
+	out << "Wrote " << path << " (" << bal.num_cameras << " camera centres, " << bal.num_points << " points)\n";
+}
+}  // namespace
+
+SolverOptions BalAppOptions::default_solver_options()
+{
+	SolverOptions o;
+	o.num_threads = 2;
+	return o;
+}
+
+bool BalAppOptions::is_valid(std::string* why) const
+{
+	return solver.is_valid(why) && robust_loss_is_valid(loss, loss_scale, why);
+}
+
+BalAppResult run_bal_app(const BalAppOptions& options, std::ostream& out)
+{
+	if (std::string why; !options.is_valid(&why)) throw std::invalid_argument(why);
+	const auto loss = make_robust_loss(options.loss, options.loss_scale);
+
+	io::BalProblem bal = io::read_bal(options.problem_path);
+	BalAppResult result;
+	result.num_behind_camera = problems::count_observations_behind_camera(bal);
+	out << "BAL problem " << options.problem_path << ": " << bal.num_cameras << " cameras, " << bal.num_points
+		<< " points, " << bal.observations.size() << " observations (" << result.num_behind_camera
+		<< " with the point behind its camera)\n";
+	write_ply_of(options.ply_initial, bal, out);
+
+	Problem problem;
+	const problems::BalVariables vars = problems::add_bal_to_problem(bal, problem, loss);
+	if (vars.num_unobserved_cameras + vars.num_unobserved_points > 0)
+		out << "Held constant (no observations): " << vars.num_unobserved_cameras << " cameras, "
+			<< vars.num_unobserved_points << " points\n";
+	out << "Loss: " << to_string(options.loss);
+	if (loss) out << " (scale " << options.loss_scale << " px)";
+	out << "; threads: " << options.solver.num_threads << "\n";
+	out.flush();
+
+	result.summary = solve(problem, options.solver);
+	out << result.summary.full_report();
+	problems::copy_values_to_bal(problem, vars, bal);
+	out << "Observations behind their camera at the solution: " << problems::count_observations_behind_camera(bal)
+		<< "\n";
+
+	write_ply_of(options.ply_final, bal, out);
+	if (!options.write_problem.empty())
+	{
+		io::write_bal(options.write_problem, bal);
+		out << "Wrote " << options.write_problem << " (BAL, solution values)\n";
+	}
+	return result;
+}
+}  // namespace swba::apps

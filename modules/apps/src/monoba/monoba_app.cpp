@@ -1,0 +1,53 @@
+// The `swba monoba` application: one adjustment with its report, or the prior-weight sweep table.
+#include <swba/apps/monoba.h>
+
+#include <fstream>
+#include <ostream>
+#include <stdexcept>
+
+namespace swba::apps
+{
+MonoBASweepOptions MonoBAAppOptions::sweep_options() const
+{
+	MonoBASweepOptions sw;
+	sw.seeds = sweep_seeds;
+	sw.repetitions = repetitions;
+	return sw;
+}
+
+bool MonoBAAppOptions::is_valid(std::string* why) const
+{
+	return scene.is_valid(why) && adjustment.is_valid(why) && sweep_options().is_valid(why);
+}
+
+std::string run_monoba_app(const MonoBAAppOptions& options, std::ostream& out)
+{
+	if (std::string why; !options.is_valid(&why)) throw std::invalid_argument(why);
+	std::string text;
+	if (options.sweep)
+	{
+		const MonoBASweepOptions sw = options.sweep_options();
+		text = format_sweep_table(run_prior_weight_sweep(options.scene, options.adjustment, sw), options.scene,
+								  options.adjustment, sw);
+	}
+	else
+	{
+		const problems::MonoBAScene scene = problems::make_monoba_scene(options.scene);
+		const MonoBAResult result = run_monoba(scene, options.adjustment, options.repetitions);
+		text = format_monoba_report(scene, options.adjustment, result);
+		if (!result.summary.is_solution_usable())
+		{
+			out << text;
+			throw std::runtime_error("optimisation failed: " + result.summary.message);
+		}
+	}
+	out << text;
+	if (!options.out_path.empty())
+	{
+		std::ofstream f(options.out_path);
+		if (!(f << text) || !f.flush()) throw std::runtime_error("cannot write " + options.out_path);
+		out << "Wrote " << options.out_path << "\n";
+	}
+	return text;
+}
+}  // namespace swba::apps

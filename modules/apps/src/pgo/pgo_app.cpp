@@ -1,0 +1,86 @@
+// The `swba pgo` application: read a g2o pose graph, initialise, optimise, write it back (see pgo.h).
+#include <swba/apps/pgo.h>
+
+#include <ostream>
+#include <stdexcept>
+
+namespace swba::apps
+{
+bool PgoAppOptions::is_valid(std::string* why) const
+{
+	const auto fail = [&](const std::string& msg) {
+		if (why) *why = msg;
+		return false;
+	};
+	if (!(prior_sigma > 0)) return fail("prior_sigma must be > 0");
+	if (!robust_loss_is_valid(loss, loss_scale, why)) return false;
+	if (solver.linear_solver == LinearSolverType::DenseSchur || solver.linear_solver == LinearSolverType::SparseSchur)
+		return fail("a pose graph has no variables to eliminate (use auto, dense-normal or sparse-normal)");
+	return solver.is_valid(why);
+}
+
+problems::PoseGraphInitOptions PgoAppOptions::init_options() const
+{
+	problems::PoseGraphInitOptions o;
+	o.method = init;
+	o.solve_positions = init_solve_positions;
+	o.rotation_error = rotation_error;
+	return o;
+}
+
+problems::PoseGraphProblemOptions PgoAppOptions::problem_options() const
+{
+	problems::PoseGraphProblemOptions o;
+	o.gauge = gauge;
+	o.prior_sigma = prior_sigma;
+	o.loss = make_robust_loss(loss, loss_scale);
+	o.rotation_error = rotation_error;
+	return o;
+}
+
+problems::PoseGraphInitSummary initialize_pgo(io::PoseGraph& graph, const PgoAppOptions& options)
+{
+	return problems::initialize_pose_graph(graph, options.init_options());
+}
+
+problems::PoseGraphProblem build_pgo_problem(const io::PoseGraph& graph, const PgoAppOptions& options)
+{
+	return problems::build_pose_graph_problem(graph, options.problem_options());
+}
+
+Summary solve_pgo(problems::PoseGraphProblem& problem, io::PoseGraph& graph, const PgoAppOptions& options)
+{
+	const Summary summary = solve(problem.problem, options.solver);
+	problems::update_pose_graph(graph, problem);
+	return summary;
+}
+
+PgoAppResult run_pgo_app(const PgoAppOptions& options, std::ostream& out, std::ostream& log)
+{
+	if (std::string why; !options.is_valid(&why)) throw std::invalid_argument(why);
+	io::PoseGraph graph = io::read_g2o(options.input_path);
+	if (const auto skipped = graph.skipped_summary(); !skipped.empty()) log << "swba pgo: warning: " << skipped << "\n";
+	out << "Pose graph " << options.input_path << ": " << graph.num_vertices() << " vertices, " << graph.num_edges()
+		<< " edges (" << (graph.is_2d() ? "2D SE2" : "3D SE3:QUAT") << "), " << graph.fixed.size() << " FIX\n";
+	PgoAppResult result;
+	result.init = initialize_pgo(graph, options);
+	out << "Initialisation " << result.init.brief() << "\n";
+	auto pp = build_pgo_problem(graph, options);
+	result.num_constant = pp.num_constant;
+	result.has_prior = pp.has_prior;
+	out << "Gauge: " << problems::to_string(options.gauge) << " (" << pp.num_constant << " constant vertices"
+		<< (pp.has_prior ? ", prior on the first vertex" : "") << ")\n";
+
+	result.summary = solve_pgo(pp, graph, options);
+	out << result.summary.full_report();
+	if (options.loss != RobustLoss::None || pp.has_prior)
+		out << "Edge cost without loss/prior: " << problems::pose_graph_cost(graph, options.rotation_error) << "\n";
+	if (!result.summary.is_solution_usable()) throw std::runtime_error("optimisation failed: " + result.summary.message);
+	if (!options.output_path.empty())
+	{
+		io::write_g2o(graph, options.output_path);
+		out << "Wrote " << options.output_path << "\n";
+	}
+	return result;
+}
+}  // namespace swba::apps
