@@ -62,7 +62,7 @@ swba::apps::BalAppOptions options_from(BalCommandLine& a)
 	if (o.solver.num_threads < 1) throw UsageError("--threads must be >= 1");
 	if (o.solver.max_iterations < 0) throw UsageError("--max-iterations must be >= 0");
 	if (std::string why; !o.solver.is_valid(&why)) throw UsageError(why);
-	o.loss = swba::apps::parse_robust_loss(a.loss.getValue());
+	o.loss = swba::parse_enum<swba::RobustLoss>(a.loss.getValue(), "loss");
 	return o;
 }
 

@@ -33,9 +33,9 @@ struct PgoCommandLine
 										cmd};
 	TCLAP::ValueArg<std::string> gauge{
 		"", "gauge",
-		"fix: FIX lines, else the lowest-id vertex held constant; prior: FIX lines, else a prior of "
-		"sigma --prior-sigma on the lowest-id vertex; free: FIX lines only (default fix)",
-		false, "fix", "fix|prior|free", cmd};
+		"fixed: FIX lines, else the lowest-id vertex held constant (\"fix\" is accepted too); prior: FIX lines, "
+		"else a prior of sigma --prior-sigma on the lowest-id vertex; free: FIX lines only (default fixed)",
+		false, "fixed", "fixed|prior|free", cmd};
 	TCLAP::ValueArg<double> prior_sigma{
 		"", "prior-sigma", "gauge prior sigma in m and rad (default 1e-3)", false, 1e-3, "SIGMA", cmd};
 	TCLAP::ValueArg<double> function_tolerance{
@@ -70,7 +70,7 @@ swba::apps::PgoAppOptions options_from(PgoCommandLine& a)
 		o.rotation_error = swba::problems::parse_rotation_error(a.rotation_error.getValue());
 		if (!(o.prior_sigma > 0)) throw std::invalid_argument("--prior-sigma must be > 0");
 		if (!(a.robust_scale.getValue() > 0)) throw std::invalid_argument("--robust-scale must be > 0");
-		o.loss = swba::apps::parse_robust_loss(a.robust.getValue());
+		o.loss = swba::parse_enum<swba::RobustLoss>(a.robust.getValue(), "loss");
 		o.loss_scale = a.robust_scale.getValue();
 		o.solver.linear_solver = swba::parse_linear_solver(a.linear.getValue());
 		if (o.solver.linear_solver == swba::LinearSolverType::DenseSchur ||

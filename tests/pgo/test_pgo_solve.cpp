@@ -2,6 +2,7 @@
 // every gauge), robust kernels against an outlier, and the shipped graphs against Ceres's cost.
 #include <swba/io/g2o.h>
 #include <swba/problems/pose_graph.h>
+#include <swba/nonlinear/gauge.h>
 #include <swba/nonlinear/solver.h>
 
 #include <gtest/gtest.h>
@@ -95,7 +96,7 @@ TEST(PgoLoop3d, ZeroCostAtTruthAndRecoveredFromPerturbedStartWithEveryGauge)
 {
 	const PoseGraph truth = loop3d_truth();
 	EXPECT_LT(pose_graph_cost(truth), 1e-25);
-	for (auto gauge : {PoseGraphGauge::FixFirst, PoseGraphGauge::Prior, PoseGraphGauge::Free})
+	for (auto gauge : {PoseGraphGauge::Fixed, PoseGraphGauge::Prior, PoseGraphGauge::Free})
 	{
 		PoseGraph g = truth;
 		perturb(g, /*including_first=*/gauge == PoseGraphGauge::Free);
@@ -104,7 +105,7 @@ TEST(PgoLoop3d, ZeroCostAtTruthAndRecoveredFromPerturbedStartWithEveryGauge)
 		PoseGraphProblemOptions po;
 		po.gauge = gauge;
 		auto pp = build_pose_graph_problem(g, po);
-		EXPECT_EQ(pp.num_constant, gauge == PoseGraphGauge::FixFirst ? 1 : 0);
+		EXPECT_EQ(pp.num_constant, gauge == PoseGraphGauge::Fixed ? 1 : 0);
 		EXPECT_EQ(pp.has_prior, gauge == PoseGraphGauge::Prior);
 		const auto summary = swba::solve(pp.problem, tight_options());
 		ASSERT_TRUE(summary.is_solution_usable()) << summary.full_report();
@@ -241,3 +242,13 @@ TEST(PgoShippedGraphs, FinalCostsMatchCeresOnTheSameModel)
 	}
 }
 }  // namespace
+
+TEST(PgoOptions, GaugeIsSpelledFixedLikeEveryOtherGaugeAndFixIsAccepted)
+{
+	using swba::problems::PoseGraphGauge;
+	EXPECT_EQ(swba::problems::parse_pose_graph_gauge("fixed"), PoseGraphGauge::Fixed);
+	EXPECT_EQ(swba::problems::parse_pose_graph_gauge("fix"), PoseGraphGauge::Fixed);
+	EXPECT_EQ(swba::problems::to_string(PoseGraphGauge::Fixed), "fixed");
+	EXPECT_EQ(swba::problems::to_string(PoseGraphGauge::Fixed), swba::to_string(swba::GaugeMode::Fixed));
+	EXPECT_THROW(swba::problems::parse_pose_graph_gauge("loose"), std::invalid_argument);
+}

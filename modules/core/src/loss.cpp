@@ -41,12 +41,34 @@ void CauchyLoss::evaluate(double s, double rho[3]) const
 	rho[2] = -c_ * (inv * inv);
 }
 
+std::shared_ptr<const LossFunction> make_loss(RobustLoss kind, double a)
+{
+	switch (kind)
+	{
+		case RobustLoss::None: return nullptr;
+		case RobustLoss::Huber: return std::make_shared<HuberLoss>(a);
+		case RobustLoss::Cauchy: return std::make_shared<CauchyLoss>(a);
+	}
+	throw std::logic_error("unknown RobustLoss value");
+}
+
 std::shared_ptr<const LossFunction> make_loss(const std::string& name, double a)
 {
-	if (name == "none" || name.empty()) return nullptr;
-	if (name == "huber") return std::make_shared<HuberLoss>(a);
-	if (name == "cauchy") return std::make_shared<CauchyLoss>(a);
-	throw std::invalid_argument("unknown loss '" + name + "' (expected none, huber or cauchy)");
+	return make_loss(parse_enum<RobustLoss>(name, "loss"), a);
+}
+
+bool loss_is_valid(RobustLoss kind, double a, std::string* why)
+{
+	try
+	{
+		make_loss(kind, a);
+		return true;
+	}
+	catch (const std::invalid_argument& e)
+	{
+		if (why) *why = e.what();
+		return false;
+	}
 }
 
 double apply_loss(const LossFunction& loss, int m, double* r, int num_blocks, const int* jac_cols,

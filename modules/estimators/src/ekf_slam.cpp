@@ -3,6 +3,7 @@
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/slam/CRangeBearingKFSLAM.h>
 #include <mrpt/system/filesystem.h>
+#include <mrpt/typemeta/TEnumType.h>
 
 #include <chrono>
 #include <ctime>
@@ -162,11 +163,18 @@ void process_steps(mrpt::slam::CRangeBearingKFSLAM& ekf, const std::vector<io::R
 
 int ekf_method_from_name(const std::string& name)
 {
-	static const char* names[] = {"kfEKFNaive", "kfEKFAlaDavison", "kfIKFFull", "kfIKF"};
-	for (int i = 0; i < 4; i++)
-		if (name == names[i] || name == std::to_string(i)) return i;
-	throw std::invalid_argument(
-		"unknown EKF method '" + name + "' (valid: kfEKFNaive, kfEKFAlaDavison, kfIKFFull, kfIKF)");
+	// The names are MRPT's own (TEnumType of TKFMethod); MRPT's INI reader also takes the number.
+	using mrpt::bayes::TKFMethod;
+	using Names = mrpt::typemeta::TEnumType<TKFMethod>;
+	constexpr int kMethods = 4;
+	std::string expected;
+	for (int i = 0; i < kMethods; i++)
+	{
+		const std::string known = Names::value2name(static_cast<TKFMethod>(i));
+		if (name == known || name == std::to_string(i)) return i;
+		expected += (i == 0 ? "" : i + 1 == kMethods ? " or " : ", ") + known;
+	}
+	throw std::invalid_argument("unknown EKF method '" + name + "' (expected " + expected + ")");
 }
 
 EkfSlamResult run_ekf_slam(const std::vector<io::RawlogStep>& steps, const EkfSlamOptions& options)

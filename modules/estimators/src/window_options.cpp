@@ -2,52 +2,17 @@
 #include <swba/estimators/sliding_window.h>
 
 #include <cmath>
-#include <cstddef>
 #include <stdexcept>
 
 namespace swba::estimators
 {
-namespace
-{
-template <typename E>
-struct Named
-{
-	const char* name;
-	E value;
-};
-
-const Named<LandmarkParameterization> kParameterizations[] = {{"inverse-depth", LandmarkParameterization::InverseDepth},
-															  {"xyz", LandmarkParameterization::Xyz}};
-const Named<LandmarkPolicy> kPolicies[] = {{"slam", LandmarkPolicy::Slam},
-										   {"constant-time", LandmarkPolicy::ConstantTime}};
-
-/** The value named `s` in `table`; throws std::invalid_argument naming `what` and the valid names. */
-template <typename E, std::size_t N>
-E parse_named(const std::string& s, const Named<E> (&table)[N], const std::string& what)
-{
-	for (const auto& entry : table)
-		if (s == entry.name) return entry.value;
-	std::string expected;
-	for (std::size_t i = 0; i < N; i++) expected += std::string(i == 0 ? "" : i + 1 == N ? " or " : ", ") + table[i].name;
-	throw std::invalid_argument("unknown " + what + " '" + s + "' (expected " + expected + ")");
-}
-
-template <typename E, std::size_t N>
-std::string name_of(E value, const Named<E> (&table)[N])
-{
-	for (const auto& entry : table)
-		if (entry.value == value) return entry.name;
-	return "?";
-}
-}  // namespace
-
 LandmarkParameterization parse_landmark_parameterization(const std::string& s)
 {
-	return parse_named(s, kParameterizations, "landmark parameterisation");
+	return parse_enum<LandmarkParameterization>(s, "landmark parameterisation");
 }
-LandmarkPolicy parse_landmark_policy(const std::string& s) { return parse_named(s, kPolicies, "landmark policy"); }
-std::string to_string(LandmarkParameterization p) { return name_of(p, kParameterizations); }
-std::string to_string(LandmarkPolicy p) { return name_of(p, kPolicies); }
+LandmarkPolicy parse_landmark_policy(const std::string& s) { return parse_enum<LandmarkPolicy>(s, "landmark policy"); }
+std::string to_string(LandmarkParameterization p) { return enum_name(p); }
+std::string to_string(LandmarkPolicy p) { return enum_name(p); }
 
 SolverOptions SlidingWindowOptions::default_solver_options()
 {

@@ -1,38 +1,15 @@
 #include <swba/nonlinear/solver.h>
 
 #include <stdexcept>
-#include <utility>
 
 namespace swba
 {
-namespace
-{
-/** Every linear solver with its name, in the order the names are listed to the user. */
-constexpr std::pair<LinearSolverType, const char*> kLinearSolverNames[] = {
-	{LinearSolverType::Auto, "auto"},
-	{LinearSolverType::DenseSchur, "dense-schur"},
-	{LinearSolverType::SparseSchur, "sparse-schur"},
-	{LinearSolverType::DenseNormal, "dense-normal"},
-	{LinearSolverType::SparseNormal, "sparse-normal"}};
-}  // namespace
-
 LinearSolverType parse_linear_solver(const std::string& name)
 {
-	std::string expected;
-	for (const auto& [type, text] : kLinearSolverNames)
-	{
-		if (name == text) return type;
-		expected += (expected.empty() ? "" : ", ") + std::string(text);
-	}
-	throw std::invalid_argument("unknown linear solver '" + name + "' (expected " + expected + ")");
+	return parse_enum<LinearSolverType>(name, "linear solver");
 }
 
-std::string to_string(LinearSolverType t)
-{
-	for (const auto& [type, text] : kLinearSolverNames)
-		if (type == t) return text;
-	return "?";
-}
+std::string to_string(LinearSolverType t) { return enum_name(t); }
 
 bool SolverOptions::is_valid(std::string* why) const
 {

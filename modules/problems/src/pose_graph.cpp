@@ -4,7 +4,6 @@
 #include <swba/problems/pose_graph.h>
 
 #include "angle_wrap.h"
-#include "enum_names.h"
 #include "pose_graph_residual.h"
 
 #include <cmath>
@@ -17,11 +16,6 @@ namespace
 using detail::wrap_pm_pi;
 using io::G2oId;
 using io::PoseGraph;
-
-constexpr detail::EnumName<PoseGraphGauge> kGaugeNames[] = {
-	{PoseGraphGauge::FixFirst, "fix"}, {PoseGraphGauge::Prior, "prior"}, {PoseGraphGauge::Free, "free"}};
-constexpr detail::EnumName<RotationError> kRotationErrorNames[] = {{RotationError::G2o, "g2o"},
-																   {RotationError::CeresExample, "ceres"}};
 
 void to_storage(const io::PoseGraphVertex3& v, double* x)
 {
@@ -67,7 +61,7 @@ void remove_gauge(const PoseGraph& g, const PoseGraphProblemOptions& opt, PoseGr
 	for (G2oId id : g.fixed) P.set_constant(out.variable_of.at(id));
 	const G2oId first = out.variable_of.begin()->first;
 	if (!g.fixed.empty()) return;
-	if (opt.gauge == PoseGraphGauge::FixFirst)
+	if (opt.gauge == PoseGraphGauge::Fixed)
 		P.set_constant(out.variable_of.at(first));
 	else if (opt.gauge == PoseGraphGauge::Prior)
 	{
@@ -89,14 +83,11 @@ void remove_gauge(const PoseGraph& g, const PoseGraphProblemOptions& opt, PoseGr
 }
 }  // namespace
 
-PoseGraphGauge parse_pose_graph_gauge(const std::string& name) { return detail::parse_enum(name, kGaugeNames, "gauge"); }
+PoseGraphGauge parse_pose_graph_gauge(const std::string& name) { return parse_enum<PoseGraphGauge>(name, "gauge"); }
 
-std::string to_string(PoseGraphGauge gauge) { return detail::enum_name(gauge, kGaugeNames); }
+std::string to_string(PoseGraphGauge gauge) { return enum_name(gauge); }
 
-RotationError parse_rotation_error(const std::string& name)
-{
-	return detail::parse_enum(name, kRotationErrorNames, "rotation error");
-}
+RotationError parse_rotation_error(const std::string& name) { return parse_enum<RotationError>(name, "rotation error"); }
 
 PoseGraphProblem build_pose_graph_problem(const PoseGraph& g, const PoseGraphProblemOptions& opt)
 {

@@ -3,7 +3,6 @@
 #include <swba/problems/pose_graph_init.h>
 
 #include "angle_wrap.h"
-#include "enum_names.h"
 #include "pose_graph_residual.h"
 
 #include <Eigen/Cholesky>
@@ -23,9 +22,6 @@ namespace
 using detail::wrap_pm_pi;
 using io::G2oId;
 using io::PoseGraph;
-
-constexpr detail::EnumName<PoseGraphInit> kInitNames[] = {
-	{PoseGraphInit::Chordal, "chordal"}, {PoseGraphInit::Odometry, "odometry"}, {PoseGraphInit::File, "file"}};
 
 Eigen::Matrix2d rot2(double theta)
 {
@@ -386,12 +382,9 @@ void chordal2(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& ancho
 }
 }  // namespace
 
-PoseGraphInit parse_pose_graph_init(const std::string& name)
-{
-	return detail::parse_enum(name, kInitNames, "initialisation");
-}
+PoseGraphInit parse_pose_graph_init(const std::string& name) { return parse_enum<PoseGraphInit>(name, "initialisation"); }
 
-std::string to_string(PoseGraphInit init) { return detail::enum_name(init, kInitNames); }
+std::string to_string(PoseGraphInit init) { return enum_name(init); }
 
 std::string PoseGraphInitSummary::brief() const
 {

@@ -27,13 +27,13 @@ SolverOptions BalAppOptions::default_solver_options()
 
 bool BalAppOptions::is_valid(std::string* why) const
 {
-	return solver.is_valid(why) && robust_loss_is_valid(loss, loss_scale, why);
+	return solver.is_valid(why) && loss_is_valid(loss, loss_scale, why);
 }
 
 BalAppResult run_bal_app(const BalAppOptions& options, std::ostream& out)
 {
 	if (std::string why; !options.is_valid(&why)) throw std::invalid_argument(why);
-	const auto loss = make_robust_loss(options.loss, options.loss_scale);
+	const auto loss = make_loss(options.loss, options.loss_scale);
 
 	io::BalProblem bal = io::read_bal(options.problem_path);
 	BalAppResult result;
@@ -48,7 +48,7 @@ BalAppResult run_bal_app(const BalAppOptions& options, std::ostream& out)
 	if (vars.num_unobserved_cameras + vars.num_unobserved_points > 0)
 		out << "Held constant (no observations): " << vars.num_unobserved_cameras << " cameras, "
 			<< vars.num_unobserved_points << " points\n";
-	out << "Loss: " << to_string(options.loss);
+	out << "Loss: " << enum_name(options.loss);
 	if (loss) out << " (scale " << options.loss_scale << " px)";
 	out << "; threads: " << options.solver.num_threads << "\n";
 	out.flush();

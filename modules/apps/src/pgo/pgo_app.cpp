@@ -13,7 +13,7 @@ bool PgoAppOptions::is_valid(std::string* why) const
 		return false;
 	};
 	if (!(prior_sigma > 0)) return fail("prior_sigma must be > 0");
-	if (!robust_loss_is_valid(loss, loss_scale, why)) return false;
+	if (!loss_is_valid(loss, loss_scale, why)) return false;
 	if (solver.linear_solver == LinearSolverType::DenseSchur || solver.linear_solver == LinearSolverType::SparseSchur)
 		return fail("a pose graph has no variables to eliminate (use auto, dense-normal or sparse-normal)");
 	return solver.is_valid(why);
@@ -33,7 +33,7 @@ problems::PoseGraphProblemOptions PgoAppOptions::problem_options() const
 	problems::PoseGraphProblemOptions o;
 	o.gauge = gauge;
 	o.prior_sigma = prior_sigma;
-	o.loss = make_robust_loss(loss, loss_scale);
+	o.loss = make_loss(loss, loss_scale);
 	o.rotation_error = rotation_error;
 	return o;
 }

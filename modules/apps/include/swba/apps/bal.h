@@ -4,7 +4,7 @@
  * requested PLY and BAL outputs. */
 #pragma once
 
-#include <swba/apps/robust_loss.h>
+#include <swba/core/loss.h>
 #include <swba/nonlinear/solver.h>
 
 #include <iosfwd>

@@ -5,7 +5,7 @@
  * (initialize_pgo, build_pgo_problem, solve_pgo), for benchmarks that time them. */
 #pragma once
 
-#include <swba/apps/robust_loss.h>
+#include <swba/core/loss.h>
 #include <swba/io/g2o.h>
 #include <swba/nonlinear/solver.h>
 #include <swba/problems/pose_graph.h>
@@ -25,8 +25,8 @@ struct PgoAppOptions
 	problems::PoseGraphInit init = problems::PoseGraphInit::Chordal;
 	/** Chordal only: false = chordal rotations, positions composed along the odometry tree. Default true. */
 	bool init_solve_positions = true;
-	/** Gauge. Default FixFirst (FIX lines, else the lowest-id vertex constant). */
-	problems::PoseGraphGauge gauge = problems::PoseGraphGauge::FixFirst;
+	/** Gauge. Default Fixed (FIX lines, else the lowest-id vertex constant). */
+	problems::PoseGraphGauge gauge = problems::PoseGraphGauge::Fixed;
 	/** σ of the gauge prior (gauge Prior), m and rad. Default 1e-3. */
 	double prior_sigma = 1e-3;
 	/** Robust loss of every edge, scale in whitened residual units. Default none, scale 1. */

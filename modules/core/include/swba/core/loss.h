@@ -3,6 +3,9 @@
  * cost = ½ ρ(s); the solver applies them through Triggs' correction (see apply_loss). */
 #pragma once
 
+#include <swba/core/names.h>
+
+#include <array>
 #include <memory>
 #include <string>
 
@@ -38,8 +41,28 @@ class CauchyLoss final : public LossFunction
 	double b_, c_;
 };
 
-/** Makes "none" (nullptr), "huber" or "cauchy" with scale `a`; throws std::invalid_argument otherwise. */
+/** The robust losses by kind, as an option value. */
+enum class RobustLoss
+{
+	None,   ///< plain least squares (no loss object)
+	Huber,  ///< HuberLoss
+	Cauchy  ///< CauchyLoss
+};
+constexpr std::array<EnumName<RobustLoss>, 4> enum_names(RobustLoss)
+{
+	return {{{RobustLoss::None, "none"},
+			 {RobustLoss::Huber, "huber"},
+			 {RobustLoss::Cauchy, "cauchy"},
+			 {RobustLoss::None, "", true}}};
+}
+
+/** The loss of kind `kind` with scale `a` (in whitened residual units); nullptr for None. Throws
+ * std::invalid_argument when a is not > 0 for Huber or Cauchy. */
+std::shared_ptr<const LossFunction> make_loss(RobustLoss kind, double a);
+/** make_loss(parse_enum<RobustLoss>(name, "loss"), a): "none" (or ""), "huber", "cauchy". */
 std::shared_ptr<const LossFunction> make_loss(const std::string& name, double a);
+/** False, with the reason in `why`, when make_loss(kind, a) would throw. */
+bool loss_is_valid(RobustLoss kind, double a, std::string* why);
 
 /** Applies a loss to a whitened residual r (dim m) and its Jacobian blocks as Ceres's Corrector does,
  * so that ½‖r̃‖² and J̃ᵀJ̃ give the robustified cost's gradient and Gauss-Newton Hessian.

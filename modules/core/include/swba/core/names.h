@@ -11,7 +11,7 @@
  *   swba::enum_name(Color::Red);                  // "red"
  *   swba::parse_enum<Color>("green", "color");    // Color::Green
  *   swba::parse_enum<Color>("blue", "color");     // std::invalid_argument:
- *                                                 //   "unknown color 'blue' (valid: red, green)"
+ *                                                 //   "unknown color 'blue' (expected red or green)"
  * \endcode */
 #pragma once
 
@@ -48,7 +48,7 @@ std::string enum_name(E value)
 	throw std::logic_error("enum value without a name");
 }
 
-/** The valid names, comma-separated, in table order (for help texts and error messages). */
+/** The valid names in table order, joined by `separator` (aliases left out), for help texts. */
 template <class E>
 std::string enum_choices(std::string_view separator = ", ")
 {
@@ -62,14 +62,28 @@ std::string enum_choices(std::string_view separator = ", ")
 	return out;
 }
 
-/** The value named `text` (exact match). Throws std::invalid_argument "unknown <what> '<text>'
- * (valid: a, b, c)" otherwise. */
+/** The valid names as a sentence: "a", "a or b", "a, b or c" (for error messages). */
+template <class E>
+std::string enum_choices_sentence()
+{
+	std::string out, last;
+	for (const auto& row : enum_table<E>())
+	{
+		if (row.alias) continue;
+		if (!last.empty()) out += (out.empty() ? "" : ", ") + last;
+		last = row.name;
+	}
+	return out.empty() ? last : out + " or " + last;
+}
+
+/** The value named `text` (exact match; aliases accepted). Throws std::invalid_argument
+ * "unknown <what> '<text>' (expected a, b or c)" otherwise. */
 template <class E>
 E parse_enum(std::string_view text, std::string_view what)
 {
 	for (const auto& row : enum_table<E>())
 		if (text == row.name) return row.value;
-	throw std::invalid_argument("unknown " + std::string(what) + " '" + std::string(text) + "' (valid: " +
-								enum_choices<E>() + ")");
+	throw std::invalid_argument("unknown " + std::string(what) + " '" + std::string(text) + "' (expected " +
+								enum_choices_sentence<E>() + ")");
 }
 }  // namespace swba

@@ -16,11 +16,13 @@
  * \endcode */
 #pragma once
 
+#include <swba/core/names.h>
 #include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
 #include <swba/nonlinear/gauge.h>
 #include <swba/nonlinear/solver.h>
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -48,6 +50,10 @@ enum class LandmarkParameterization
 	InverseDepth,
 	Xyz            ///< world point
 };
+constexpr std::array<EnumName<LandmarkParameterization>, 2> enum_names(LandmarkParameterization)
+{
+	return {{{LandmarkParameterization::InverseDepth, "inverse-depth"}, {LandmarkParameterization::Xyz, "xyz"}}};
+}
 
 enum class LandmarkPolicy
 {
@@ -58,6 +64,10 @@ enum class LandmarkPolicy
 	 * (VIO style): the state and the cost per step stay bounded, the map is forgotten. */
 	ConstantTime
 };
+constexpr std::array<EnumName<LandmarkPolicy>, 2> enum_names(LandmarkPolicy)
+{
+	return {{{LandmarkPolicy::Slam, "slam"}, {LandmarkPolicy::ConstantTime, "constant-time"}}};
+}
 
 
 LandmarkParameterization parse_landmark_parameterization(const std::string& s);  ///< "inverse-depth" | "xyz"

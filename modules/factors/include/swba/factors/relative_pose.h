@@ -20,9 +20,12 @@
 #pragma once
 
 #include <swba/core/factor.h>
+#include <swba/core/names.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
+#include <array>
 
 namespace swba
 {
@@ -32,6 +35,10 @@ enum class RotationError
 	G2o,          ///< 2·vec(q_ab⁻¹·q_a⁻¹·q_b) (default)
 	CeresExample  ///< 2·vec(q_ab·(q_a⁻¹·q_b)⁻¹)
 };
+constexpr std::array<EnumName<RotationError>, 2> enum_names(RotationError)
+{
+	return {{{RotationError::G2o, "g2o"}, {RotationError::CeresExample, "ceres"}}};
+}
 
 /** Relative SE(3) pose measurement Z = (q_ab, t_ab) of pose b in the frame of pose a. */
 class RelativePoseFactor final : public Factor

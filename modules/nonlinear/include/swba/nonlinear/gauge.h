@@ -3,6 +3,9 @@
  * estimators (sliding window, mono BA). */
 #pragma once
 
+#include <swba/core/names.h>
+
+#include <array>
 #include <string>
 
 namespace swba
@@ -14,6 +17,11 @@ enum class GaugeMode
 	Fixed,  ///< chosen poses are constant
 	Prior   ///< an SE(3) PosePriorFactor with information W·I on the chosen poses
 };
+
+constexpr std::array<EnumName<GaugeMode>, 3> enum_names(GaugeMode)
+{
+	return {{{GaugeMode::Free, "free"}, {GaugeMode::Fixed, "fixed"}, {GaugeMode::Prior, "prior"}}};
+}
 
 /** Parses "free", "fixed", "prior"; throws std::invalid_argument otherwise. */
 GaugeMode parse_gauge_mode(const std::string& name);

@@ -4,7 +4,10 @@
  * Options and Summary follow Ceres's conventions (cost = ½Σρ(‖W r‖²)). */
 #pragma once
 
+#include <swba/core/names.h>
 #include <swba/nonlinear/problem.h>
+
+#include <array>
 
 #include <string>
 #include <vector>
@@ -20,6 +23,16 @@ enum class LinearSolverType
 	DenseNormal,   ///< no elimination, full normal equations by dense LDLT
 	SparseNormal   ///< no elimination, full normal equations by CHOLMOD
 };
+
+/** Every linear solver with its name, in the order the names are listed to the user. */
+constexpr std::array<EnumName<LinearSolverType>, 5> enum_names(LinearSolverType)
+{
+	return {{{LinearSolverType::Auto, "auto"},
+			 {LinearSolverType::DenseSchur, "dense-schur"},
+			 {LinearSolverType::SparseSchur, "sparse-schur"},
+			 {LinearSolverType::DenseNormal, "dense-normal"},
+			 {LinearSolverType::SparseNormal, "sparse-normal"}}};
+}
 
 /** Parses "auto", "dense-schur", "sparse-schur", "dense-normal", "sparse-normal". */
 LinearSolverType parse_linear_solver(const std::string& name);

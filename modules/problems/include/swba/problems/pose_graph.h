@@ -7,11 +7,13 @@
 #pragma once
 
 #include <swba/core/loss.h>
+#include <swba/core/names.h>
 #include <swba/factors/relative_pose.h>
 #include <swba/io/g2o.h>
 #include <swba/nonlinear/problem.h>
 #include <swba/nonlinear/solver.h>
 
+#include <array>
 #include <map>
 #include <memory>
 #include <string>
@@ -21,17 +23,25 @@ namespace swba::problems
 /** How the gauge (global pose freedom) is removed. */
 enum class PoseGraphGauge
 {
-	FixFirst,  ///< vertices of FIX lines constant; if there are none, the vertex with the lowest id
-	Prior,     ///< FIX lines honoured; if there are none, a strong prior on the lowest-id vertex
-	Free       ///< only FIX lines; the remaining freedom is left to the LM damping
+	Fixed,  ///< vertices of FIX lines constant; if there are none, the vertex with the lowest id
+	Prior,  ///< FIX lines honoured; if there are none, a strong prior on the lowest-id vertex
+	Free    ///< only FIX lines; the remaining freedom is left to the LM damping
 };
-/** Parses "fix", "prior", "free"; throws std::invalid_argument otherwise. */
+/** "fixed" as for every other gauge option; "fix" (the g2o keyword) is accepted as well. */
+constexpr std::array<EnumName<PoseGraphGauge>, 4> enum_names(PoseGraphGauge)
+{
+	return {{{PoseGraphGauge::Fixed, "fixed"},
+			 {PoseGraphGauge::Prior, "prior"},
+			 {PoseGraphGauge::Free, "free"},
+			 {PoseGraphGauge::Fixed, "fix", true}}};
+}
+/** Parses "fixed" (or "fix"), "prior", "free"; throws std::invalid_argument otherwise. */
 PoseGraphGauge parse_pose_graph_gauge(const std::string& name);
 std::string to_string(PoseGraphGauge gauge);
 
 struct PoseGraphProblemOptions
 {
-	PoseGraphGauge gauge = PoseGraphGauge::FixFirst;
+	PoseGraphGauge gauge = PoseGraphGauge::Fixed;
 	/** Standard deviation of the gauge prior, in metres and radians (W = I/σ). Default 1e-3. */
 	double prior_sigma = 1e-3;
 	/** Robust loss for every edge (null = plain least squares). Default null. */

@@ -20,9 +20,11 @@
  * lowest-id vertex, which keeps its file value (counted in PoseGraphInitSummary::extra_anchors). */
 #pragma once
 
+#include <swba/core/names.h>
 #include <swba/factors/relative_pose.h>
 #include <swba/io/g2o.h>
 
+#include <array>
 #include <string>
 
 namespace swba::problems
@@ -33,6 +35,10 @@ enum class PoseGraphInit
 	Odometry,  ///< composition along a spanning tree, odometry (consecutive-id) edges first
 	Chordal    ///< chordal rotations, then positions by linear least squares (default)
 };
+constexpr std::array<EnumName<PoseGraphInit>, 3> enum_names(PoseGraphInit)
+{
+	return {{{PoseGraphInit::Chordal, "chordal"}, {PoseGraphInit::Odometry, "odometry"}, {PoseGraphInit::File, "file"}}};
+}
 /** Parses "file", "odometry", "chordal"; throws std::invalid_argument otherwise. */
 PoseGraphInit parse_pose_graph_init(const std::string& name);
 std::string to_string(PoseGraphInit init);
