@@ -13,7 +13,7 @@ namespace
 struct MonobaCommandLine
 {
 	TCLAP::CmdLine cmd{
-		"Monocular bundle adjustment on a synthetic scene (seed 000's TestMonoBA): N cameras on an arc, M points "
+		"Monocular bundle adjustment on a synthetic scene: N cameras on an arc, M points "
 		"as inverse depths in their first observing camera, observations on the normalised image plane. "
 		"Gauge: free, fixed (first K poses constant) or prior (pose prior W*I on the first K poses). "
 		"--sweep-prior-weights runs W over 0, 1, 10, ..., 1e10 plus free and fixed reference rows. "

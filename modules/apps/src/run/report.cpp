@@ -30,7 +30,7 @@ std::string fixed(double v, int decimals)
 std::string pad_right(const std::string& s, std::size_t w) { return s.size() >= w ? s : s + std::string(w - s.size(), ' '); }
 std::string pad_left(const std::string& s, std::size_t w) { return s.size() >= w ? s : std::string(w - s.size(), ' ') + s; }
 
-/** The seven statistics in the order. */
+/** The seven statistics evo computes, in the report's column order. */
 const std::vector<std::pair<const char*, double eval::Statistics::*>>& stat_fields()
 {
 	static const std::vector<std::pair<const char*, double eval::Statistics::*>> f = {

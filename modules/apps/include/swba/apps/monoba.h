@@ -130,7 +130,7 @@ std::string format_sweep_table(const std::vector<MonoBASweepRow>& rows, const pr
 /** Options of `swba monoba`: one adjustment of a scene, or the prior-weight sweep. */
 struct MonoBAAppOptions
 {
-	/** The scene (default: 3 cameras, 20 points, seed 0); in the sweep the first of the seeds. */
+	/** The scene (default: 3 cameras, 20 points, RNG seed 0); in the sweep the first of the seeds. */
 	problems::MonoBASceneOptions scene;
 	/** Gauge, anchors K, prior weight, LM options. The sweep ignores the gauge and the weight. */
 	MonoBAOptions adjustment;

@@ -1,6 +1,6 @@
 /** \file monocular_inverse_depth.h
- * Reprojection error of a point parameterised by its inverse depth in a host camera (seed 000's
- * mono BA), on the normalised image plane.
+ * Reprojection error of a point parameterised by its inverse depth in a host camera
+ * on the normalised image plane.
  *
  * Camera poses T_wc are camera-to-world (SE3Manifold, right perturbation). The point is hosted in
  * camera h with a FIXED normalised bearing b = [u_h, v_h, 1] (its first observation) and a 1-D

@@ -1,6 +1,6 @@
 /** \file ply.h
- * ASCII PLY point clouds with per-vertex colour (as seed 003 writes them: camera centres green,
- * points white). Readable by MeshLab, CloudCompare, Open3D. */
+ * ASCII PLY point clouds with per-vertex colour (camera centres green, points white in
+ * `swba directba`). Readable by MeshLab, CloudCompare, Open3D. */
 #pragma once
 
 #include <Eigen/Core>
