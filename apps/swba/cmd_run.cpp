@@ -98,7 +98,7 @@ struct RunCommandLine
 		if (threads.isSet())
 		{
 			if (threads.getValue() < 1) throw UsageError("--threads must be >= 1");
-			o.threads = threads.getValue();
+			o.window.solver.num_threads = threads.getValue();
 		}
 		if (no_plots.isSet()) o.plots = false;
 		if (no_progress.isSet()) o.progress = false;
@@ -114,9 +114,9 @@ struct RunCommandLine
 				throw UsageError("--" + a.getName() + " must be a number > 0");
 			dst = a.getValue() * scale;
 		};
-		noise(std_range, 1.0, o.window.sensor_std_range);
-		noise(std_yaw, kDegToRad, o.window.sensor_std_yaw);
-		noise(std_pitch, kDegToRad, o.window.sensor_std_pitch);
+		noise(std_range, 1.0, o.window.sensor.std_range);
+		noise(std_yaw, kDegToRad, o.window.sensor.std_yaw);
+		noise(std_pitch, kDegToRad, o.window.sensor.std_pitch);
 	}
 };
 

@@ -58,7 +58,7 @@ bool OnlineSlamApp::initialize(int argc, char** argv)
 									false, 10, "W", cmd);
 	TCLAP::ValueArg<std::string> config_arg("", "config", "swba run's INI file ([window] [solver] [sensor] [odometry] [run] sections)",
 											false, "", "INI", cmd);
-	TCLAP::ValueArg<int> threads_arg("", "threads", "solver threads. (Default: 1, or [run] threads in --config)", false, 1, "N", cmd);
+	TCLAP::ValueArg<int> threads_arg("", "threads", "solver threads. (Default: 1, or [solver] threads in --config)", false, 1, "N", cmd);
 	TCLAP::ValueArg<int> max_steps_arg("", "max-steps", "stop after N steps (0 = all). (Default: 0)", false, 0, "N", cmd);
 	TCLAP::ValueArg<std::string> tum_arg("", "tum", "write the online trajectory (each pose right after its step), TUM", false, "",
 										 "FILE", cmd);
@@ -85,7 +85,6 @@ bool OnlineSlamApp::initialize(int argc, char** argv)
 	if (config_arg.isSet()) swba::apps::load_run_config(config_arg.getValue(), run);
 	options = run.window;
 	options.window_size = config_arg.isSet() && !run.windows.empty() ? run.windows.front() : 10;
-	options.solver.num_threads = run.threads;
 	if (window_arg.isSet()) options.window_size = window_arg.getValue();
 	if (threads_arg.isSet())
 	{

@@ -34,12 +34,12 @@ std::string load_error(const std::string& text)
 /** An INI setting every key to a value different from its default. */
 std::string non_default_ini()
 {
-	return "[run]\nrawlog = a.rawlog\nground_truth = a_gt.txt\nout_dir = elsewhere\nmax_steps = 7\nthreads = 2\n"
+	return "[run]\nrawlog = a.rawlog\nground_truth = a_gt.txt\nout_dir = elsewhere\nmax_steps = 7\n"
 		   "batch = false\nbatch_max_iterations = 3\ncausal = true\nplots = false\nprogress = false\n"
 		   "[window]\nsizes = 3,4\npolicy = both\nfej = off\nlandmarks = xyz\ngauge = prior\ngauge_prior_weight = 5\n"
 		   "marginalization_threshold = 0.5\n"
 		   "[solver]\nmax_iterations = 4\nfunction_tolerance = 0.5\ngradient_tolerance = 0.25\n"
-		   "parameter_tolerance = 0.125\nlinear_solver = dense-normal\ndense_max_dim = 9\n"
+		   "parameter_tolerance = 0.125\nlinear_solver = dense-normal\ndense_max_dim = 9\nthreads = 2\n"
 		   "[ekf]\nenabled = false\nmethods = kfIKF\nini_file = x.ini\n"
 		   "[sensor]\nstd_range_m = 0.5\nstd_yaw_deg = 2\nstd_pitch_deg = 3\n"
 		   "[odometry]\nmin_sigma_translation_m = 0.5\nmin_sigma_rotation_rad = 0.25\n";
@@ -62,8 +62,9 @@ TEST(RunConfig, NonDefaultIniSetsEveryKey)
 	EXPECT_TRUE(o.run_causal);
 	EXPECT_EQ(o.ekf_methods, std::vector<std::string>{"kfIKF"});
 	EXPECT_EQ(o.window.solver.max_iterations, 4);
-	EXPECT_NEAR(o.window.sensor_std_yaw, 2.0 * M_PI / 180.0, 1e-15);
-	EXPECT_DOUBLE_EQ(o.window.sensor_std_range, 0.5);
+	EXPECT_EQ(o.window.solver.num_threads, 2);
+	EXPECT_NEAR(o.window.sensor.std_yaw, 2.0 * M_PI / 180.0, 1e-15);
+	EXPECT_DOUBLE_EQ(o.window.sensor.std_range, 0.5);
 	EXPECT_DOUBLE_EQ(o.window.odometry.min_sigma_rotation, 0.25);
 }
 
@@ -213,7 +214,7 @@ TEST(RunConfig, ValidateRejectsBadCombinations)
 	o.run_batch = false;
 	EXPECT_THROW(o.validate(), std::invalid_argument);
 	o = RunOptions{};
-	o.threads = 0;
+	o.window.solver.num_threads = 0;
 	EXPECT_THROW(o.validate(), std::invalid_argument);
 }
 
@@ -228,5 +229,5 @@ TEST(RunConfig, WrittenConfigReadsBackToTheSameOptions)
 	load_run_config_text(text, "written.ini", back);
 	EXPECT_EQ(swba::apps::format_run_config(back), text);
 	EXPECT_EQ(back.windows, o.windows);
-	EXPECT_EQ(back.window.sensor_std_yaw, o.window.sensor_std_yaw);
+	EXPECT_EQ(back.window.sensor.std_yaw, o.window.sensor.std_yaw);
 }

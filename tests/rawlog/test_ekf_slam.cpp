@@ -3,6 +3,8 @@
 
 #include <swba/eval/trajectory.h>
 
+#include <mrpt/core/bits_math.h>
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -64,8 +66,8 @@ TEST(EkfSlam, ReproducesEvoReferenceWithIniOptions)
 	const auto res = swba::estimators::run_ekf_slam(demo6d().steps, opt);
 	EXPECT_FALSE(res.failed) << res.failure;
 	EXPECT_EQ(res.method, "kfEKFAlaDavison");
-	EXPECT_NEAR(res.std_range_m, 0.02, 1e-7);
-	EXPECT_NEAR(res.std_yaw_deg, 0.3, 1e-5);
+	EXPECT_NEAR(res.std_range, 0.02, 1e-7);
+	EXPECT_NEAR(mrpt::RAD2DEG(res.std_yaw), 0.3, 1e-5);
 	EXPECT_EQ(progress_calls, 599u);
 	EXPECT_EQ(res.landmarks, demo6d().distinct_landmarks);  // every landmark seen enters the map
 	const auto ref = read_tum(std::string(SWBA_DATA_DIR) + "/evo_reference/ekf_kf-slam_6D_demo.tum");
@@ -96,22 +98,22 @@ TEST(EkfSlam, DefaultNoiseIsTheObservationsOwn)
 	const auto res = swba::estimators::run_ekf_slam(demo6d().steps, opt);
 	EXPECT_FALSE(res.failed) << res.failure;
 	EXPECT_EQ(res.method, "kfEKFNaive");
-	EXPECT_NEAR(res.std_range_m, 0.01, 1e-7);
-	EXPECT_NEAR(res.std_yaw_deg, 0.1, 1e-5);
-	EXPECT_NEAR(res.std_pitch_deg, 0.1, 1e-5);
+	EXPECT_NEAR(res.std_range, 0.01, 1e-7);
+	EXPECT_NEAR(mrpt::RAD2DEG(res.std_yaw), 0.1, 1e-5);
+	EXPECT_NEAR(mrpt::RAD2DEG(res.std_pitch), 0.1, 1e-5);
 	EXPECT_EQ(res.poses.size(), 50u);
 	EXPECT_EQ(res.times.back(), 50.0);
 	EXPECT_GT(res.ms_per_step, 0.0);
 	EXPECT_GT(res.cpu_ms_per_step, 0.0);
 	// Explicit values override the INI's.
 	opt.ini_file = kIni6D;
-	opt.std_range_m = 0.05;
-	opt.std_yaw_deg = 0.5;
-	opt.std_pitch_deg = 0.5;
+	opt.std_range = 0.05;
+	opt.std_yaw = mrpt::DEG2RAD(0.5);
+	opt.std_pitch = mrpt::DEG2RAD(0.5);
 	const auto res2 = swba::estimators::run_ekf_slam(demo6d().steps, opt);
 	EXPECT_EQ(res2.method, "kfEKFNaive");
-	EXPECT_NEAR(res2.std_range_m, 0.05, 1e-7);
-	EXPECT_NEAR(res2.std_pitch_deg, 0.5, 1e-5);
+	EXPECT_NEAR(res2.std_range, 0.05, 1e-7);
+	EXPECT_NEAR(mrpt::RAD2DEG(res2.std_pitch), 0.5, 1e-5);
 }
 
 TEST(EkfSlam, BadOptionsThrow)
@@ -123,7 +125,7 @@ TEST(EkfSlam, BadOptionsThrow)
 	opt.ini_file = "/nonexistent.ini";
 	EXPECT_THROW(swba::estimators::run_ekf_slam(demo6d().steps, opt), std::runtime_error);
 	opt = {};
-	opt.std_range_m = 0.0;
+	opt.std_range = 0.0;
 	EXPECT_THROW(swba::estimators::run_ekf_slam(demo6d().steps, opt), std::invalid_argument);
 	EXPECT_THROW(swba::estimators::run_ekf_slam({}, {}), std::invalid_argument);
 	EXPECT_EQ(swba::estimators::ekf_method_from_name("kfEKFAlaDavison"), 1);
@@ -155,8 +157,8 @@ TEST(EkfSlam, NoncenteredWithIniAndTrueNoiseThrowsLater)
 	const auto log = swba::io::read_rawlog(kDatasets + "/kf-slam_6D_demo_noncentered.rawlog");
 	swba::estimators::EkfSlamOptions opt;
 	opt.ini_file = "/usr/share/mrpt/config_files/kf-slam/EKF-SLAM_6D_noncentered_test.ini";
-	opt.std_range_m = 0.01;
-	opt.std_yaw_deg = opt.std_pitch_deg = 0.1;
+	opt.std_range = 0.01;
+	opt.std_yaw = opt.std_pitch = mrpt::DEG2RAD(0.1);
 	const auto res = swba::estimators::run_ekf_slam(log.steps, opt);
 	EXPECT_TRUE(res.failed);
 	EXPECT_GT(res.failed_step, 400u);

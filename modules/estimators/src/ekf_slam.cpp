@@ -70,27 +70,25 @@ void apply_overrides(mrpt::slam::CRangeBearingKFSLAM& ekf, const EkfSlamOptions&
 {
 	using mrpt::bayes::TKFMethod;
 	if (options.method) ekf.KF_options.method = static_cast<TKFMethod>(ekf_method_from_name(*options.method));
-	if (options.std_range_m)
-		ekf.options.std_sensor_range = static_cast<float>(checked_positive(*options.std_range_m, "std_range_m"));
-	if (options.std_yaw_deg)
-		ekf.options.std_sensor_yaw = static_cast<float>(mrpt::DEG2RAD(checked_positive(*options.std_yaw_deg, "std_yaw_deg")));
-	if (options.std_pitch_deg)
-		ekf.options.std_sensor_pitch =
-			static_cast<float>(mrpt::DEG2RAD(checked_positive(*options.std_pitch_deg, "std_pitch_deg")));
+	if (options.std_range)
+		ekf.options.std_sensor_range = static_cast<float>(checked_positive(*options.std_range, "std_range"));
+	if (options.std_yaw) ekf.options.std_sensor_yaw = static_cast<float>(checked_positive(*options.std_yaw, "std_yaw"));
+	if (options.std_pitch)
+		ekf.options.std_sensor_pitch = static_cast<float>(checked_positive(*options.std_pitch, "std_pitch"));
 	if (options.std_odo_z_additional_m)
 	{
 		if (!(*options.std_odo_z_additional_m >= 0))
 			throw std::invalid_argument("EKF option std_odo_z_additional_m must be >= 0");
 		ekf.options.std_odo_z_additional = static_cast<float>(*options.std_odo_z_additional_m);
 	}
-	checked_positive(ekf.options.std_sensor_range, "std_range_m");
-	checked_positive(ekf.options.std_sensor_yaw, "std_yaw_deg");
-	checked_positive(ekf.options.std_sensor_pitch, "std_pitch_deg");
+	checked_positive(ekf.options.std_sensor_range, "std_range");
+	checked_positive(ekf.options.std_sensor_yaw, "std_yaw");
+	checked_positive(ekf.options.std_sensor_pitch, "std_pitch");
 
 	res.method = mrpt::typemeta::TEnumType<TKFMethod>::value2name(ekf.KF_options.method);
-	res.std_range_m = ekf.options.std_sensor_range;
-	res.std_yaw_deg = mrpt::RAD2DEG(double(ekf.options.std_sensor_yaw));
-	res.std_pitch_deg = mrpt::RAD2DEG(double(ekf.options.std_sensor_pitch));
+	res.std_range = ekf.options.std_sensor_range;
+	res.std_yaw = ekf.options.std_sensor_yaw;
+	res.std_pitch = ekf.options.std_sensor_pitch;
 }
 
 /** Silence (no console logging, no profiler table) unless verbose; warnings are counted in `res`

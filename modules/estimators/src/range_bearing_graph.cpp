@@ -72,18 +72,6 @@ std::map<std::int32_t, Eigen::Vector3d> RangeBearingGraph::landmark_positions() 
 	return out;
 }
 
-Eigen::Vector3d RangeBearingGraph::sigma_for(const io::RawlogStep& step) const
-{
-	Eigen::Vector3d s(opt_.sensor_std_range > 0 ? opt_.sensor_std_range : step.sensor_std_range,
-					  opt_.sensor_std_yaw > 0 ? opt_.sensor_std_yaw : step.sensor_std_yaw,
-					  opt_.sensor_std_pitch > 0 ? opt_.sensor_std_pitch : step.sensor_std_pitch);
-	for (int i = 0; i < 3; i++)
-		if (!(s[i] > 0))
-			throw std::invalid_argument("step " + std::to_string(step.index) +
-										": sensor noise is not positive (set sensor_std_* in the options)");
-	return s;
-}
-
 FactorId RangeBearingGraph::add_observation_factor(const Landmark& lm, const Observation& o)
 {
 	std::shared_ptr<Factor> f;
@@ -142,7 +130,7 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 	odo->set_information(io::odometry_information(step.odometry, opt_.odometry));
 	smoother_.add_factor(odo, {vprev, vnew});
 	if (step.readings.empty()) return;
-	const Eigen::Vector3d sigma = sigma_for(step);
+	const Eigen::Vector3d sigma = opt_.sensor.resolve(step);
 	for (const auto& rd : step.readings)
 	{
 		Observation o{k, {rd.range, rd.yaw, rd.pitch}, sigma, -1};

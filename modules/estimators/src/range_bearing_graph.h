@@ -88,7 +88,6 @@ class RangeBearingGraph
 	void convert_to_world_xyz(Landmark& lm);
 
    private:
-	Eigen::Vector3d sigma_for(const io::RawlogStep& step) const;
 	/** Adds the landmark of a first reading, initialised from it at pose step k. */
 	Landmark& add_landmark(std::int32_t id, const Observation& o);
 	/** Builds the factor of observation `o` of landmark `lm` (given its current anchor). */

@@ -33,9 +33,31 @@ void SlidingWindowOptions::validate() const
 	if (!(gauge_prior_weight > 0)) throw std::invalid_argument("gauge prior weight must be > 0");
 	if (!(marginalization_threshold >= 0) || !(marginalization_threshold < 1))
 		throw std::invalid_argument("marginalisation threshold must be in [0, 1)");
-	for (double s : {sensor_std_range, sensor_std_yaw, sensor_std_pitch})
-		if (!std::isfinite(s)) throw std::invalid_argument("sensor noise must be finite");
+	sensor.validate();
 	std::string why;
 	if (!solver.is_valid(&why)) throw std::invalid_argument("solver options: " + why);
+}
+
+IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& section)
+{
+	using S = std::string;
+	using O = SlidingWindowOptions;
+	using namespace ini;
+	return {
+		enum_key<O, LandmarkParameterization>(section, "landmarks", "landmark parameterisation",
+											  "landmark parameterisation", [](auto& o) -> auto& { return o.landmarks; }),
+		enum_key<O, GaugeMode>(section, "gauge", "gauge: first pose fixed, free, or an SE(3) prior on it", "gauge",
+							   [](auto& o) -> auto& { return o.gauge; }),
+		{section, "gauge_prior_weight", "1/(m^2 or rad^2)", "information of the gauge prior (gauge = prior only)",
+		 [](const S& v, O& o) { o.gauge_prior_weight = parse_positive(v); },
+		 [](const O& o) { return format_double(o.gauge_prior_weight); }},
+		{section, "marginalization_threshold", "relative", "relative eigenvalue cut of the marginal prior, in [0, 1)",
+		 [](const S& v, O& o) {
+			 const double d = parse_non_negative(v);
+			 if (!(d < 1)) throw std::invalid_argument("'" + v + "' must be < 1");
+			 o.marginalization_threshold = d;
+		 },
+		 [](const O& o) { return format_double(o.marginalization_threshold); }},
+	};
 }
 }  // namespace swba::estimators

@@ -49,4 +49,18 @@ Eigen::Matrix<double, 6, 6> odometry_information(
 	Eigen::Matrix<double, 6, 6> info = inv_s.asDiagonal() * Ainv * inv_s.asDiagonal();
 	return 0.5 * (info + info.transpose());
 }
+
+IniKeys<OdometryInformationOptions> OdometryInformationOptions::ini_keys(const std::string& section)
+{
+	using S = std::string;
+	using O = OdometryInformationOptions;
+	return {
+		{section, "min_sigma_translation_m", "m", "floor of the odometry's translational standard deviations",
+		 [](const S& v, O& o) { o.min_sigma_translation = ini::parse_positive(v); },
+		 [](const O& o) { return ini::format_double(o.min_sigma_translation); }},
+		{section, "min_sigma_rotation_rad", "rad", "floor of the odometry's rotational standard deviations",
+		 [](const S& v, O& o) { o.min_sigma_rotation = ini::parse_positive(v); },
+		 [](const O& o) { return ini::format_double(o.min_sigma_rotation); }},
+	};
+}
 }  // namespace swba::io

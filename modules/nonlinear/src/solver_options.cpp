@@ -30,4 +30,33 @@ bool SolverOptions::is_valid(std::string* why) const
 	if (dense_max_dim < 0) return fail("dense_max_dim must be >= 0");
 	return true;
 }
+
+IniKeys<SolverOptions> SolverOptions::ini_keys(const std::string& section)
+{
+	using S = std::string;
+	using O = SolverOptions;
+	using namespace ini;
+	return {
+		{section, "max_iterations", "iterations", "LM iterations per solve",
+		 [](const S& v, O& o) { o.max_iterations = parse_int_min(v, 1); },
+		 [](const O& o) { return std::to_string(o.max_iterations); }},
+		{section, "function_tolerance", "relative", "stop when |d cost| / cost < this",
+		 [](const S& v, O& o) { o.function_tolerance = parse_non_negative(v); },
+		 [](const O& o) { return format_double(o.function_tolerance); }},
+		{section, "gradient_tolerance", "cost units", "stop when max |gradient| <= this",
+		 [](const S& v, O& o) { o.gradient_tolerance = parse_non_negative(v); },
+		 [](const O& o) { return format_double(o.gradient_tolerance); }},
+		{section, "parameter_tolerance", "relative", "stop when |step| <= this * (|x| + this)",
+		 [](const S& v, O& o) { o.parameter_tolerance = parse_non_negative(v); },
+		 [](const O& o) { return format_double(o.parameter_tolerance); }},
+		enum_key<O, LinearSolverType>(section, "linear_solver", "linear solver of each LM step", "linear solver",
+									  [](auto& o) -> auto& { return o.linear_solver; }),
+		{section, "dense_max_dim", "unknowns", "with linear_solver = auto: reduced systems up to this size use dense LDLT",
+		 [](const S& v, O& o) { o.dense_max_dim = parse_int_min(v, 0); },
+		 [](const O& o) { return std::to_string(o.dense_max_dim); }},
+		{section, "threads", "count", "threads of the evaluation and assembly",
+		 [](const S& v, O& o) { o.num_threads = parse_int_min(v, 1); },
+		 [](const O& o) { return std::to_string(o.num_threads); }},
+	};
+}
 }  // namespace swba

@@ -14,7 +14,6 @@ namespace swba::apps
 {
 namespace
 {
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 /** The estimates after the steps (t ≥ 1): a trajectory that also holds the start pose (t = 0, fixed
  * by the gauge) loses it, so that every estimator is compared over the same poses. */
@@ -39,15 +38,16 @@ void set_ekf_sensor_noise(const RowContext& ctx, estimators::EkfSlamOptions& eo)
 			with_obs = &st;
 			break;
 		}
-	auto noise = [&](double option, double observed, double scale, std::optional<double>& dst) {
+	auto noise = [&](double option, double observed, std::optional<double>& dst) {
 		if (option > 0)
-			dst = option * scale;
+			dst = option;
 		else if (with_obs && observed > 0)
-			dst = observed * scale;
+			dst = observed;
 	};
-	noise(ctx.base.sensor_std_range, with_obs ? with_obs->sensor_std_range : 0, 1.0, eo.std_range_m);
-	noise(ctx.base.sensor_std_yaw, with_obs ? with_obs->sensor_std_yaw : 0, kRadToDeg, eo.std_yaw_deg);
-	noise(ctx.base.sensor_std_pitch, with_obs ? with_obs->sensor_std_pitch : 0, kRadToDeg, eo.std_pitch_deg);
+	const estimators::SensorNoiseOptions& s = ctx.base.sensor;
+	noise(s.std_range, with_obs ? with_obs->sensor_std_range : 0, eo.std_range);
+	noise(s.std_yaw, with_obs ? with_obs->sensor_std_yaw : 0, eo.std_yaw);
+	noise(s.std_pitch, with_obs ? with_obs->sensor_std_pitch : 0, eo.std_pitch);
 }
 
 /** A row whose single task (batch, causal) failed at the end of the run. */

@@ -76,7 +76,6 @@ RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
 	options.validate();
 	RunReport report = empty_report(rawlog);
 	RowContext ctx{options, rawlog, gt, log, options.window};
-	ctx.base.solver.num_threads = options.threads;
 
 	if (options.run_ekf)
 		for (const auto& method : options.ekf_methods) report.rows.push_back(run_ekf_row(ctx, method, report.notes));

@@ -1,7 +1,9 @@
-/** \file run_config.h
+/** \file run_options.h
  * Options of `swba run` (swba::apps::RunOptions) and their INI file, in MRPT's
  * CLoadableOptions style (sections [run], [window], [solver], [ekf], [sensor], [odometry]; read with
- * mrpt::config::CConfigFile) — but, unlike MRPT, an unknown or misspelt section or key is an error
+ * mrpt::config::CConfigFile). Each options struct declares its own keys next to itself
+ * (SlidingWindowOptions, SolverOptions, SensorNoiseOptions, OdometryInformationOptions::ini_keys); this
+ * file adds the run's own ([run], the window sweep, [ekf]) and composes them. Unlike MRPT, an unknown or misspelt section or key is an error
  * that lists the known ones, and a value that does not parse completely is an error naming the key.
  * share/config/swba_run.ini documents every key with its unit and default.
  *
@@ -9,10 +11,10 @@
  * options given on it). */
 #pragma once
 
+#include <swba/core/ini.h>
 #include <swba/estimators/sliding_window.h>
 
 #include <cstddef>
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -49,31 +51,21 @@ struct RunOptions
 	bool run_causal = false;
 	/** Process at most this many steps (0 = all). Default 0. */
 	std::size_t max_steps = 0;
-	/** Threads of the solver's evaluation/assembly. Default 1. */
-	int threads = 1;
 	/** Write gnuplot plots when gnuplot is found. Default true. */
 	bool plots = true;
 	/** Progress lines on stderr for estimators running longer than a second. Default true. */
 	bool progress = true;
-	/** The window/batch options (window_size and policy/fej are taken from the lists above for each run;
-	 * sensor_std_* ≤ 0 = the observation's own noise, also given to the EKF). */
+	/** The window/batch options: solver (threads included), sensor noise (also given to the EKF),
+	 * odometry floors, gauge, landmarks. window_size, policy and first_estimate_jacobians are taken
+	 * from the lists above for each row. */
 	estimators::SlidingWindowOptions window;
 
 	/** Throws std::invalid_argument with a one-line reason naming the option. */
 	void validate() const;
 };
 
-/** One INI key: where it lives, its unit and meaning, how it sets and reads a RunOptions. */
-struct RunConfigKey
-{
-	std::string section, key, unit, meaning;
-	/** Parses the value (throws std::invalid_argument with the reason) and stores it. */
-	std::function<void(const std::string&, RunOptions&)> set;
-	/** The option's value as the INI would write it. */
-	std::function<std::string(const RunOptions&)> get;
-};
 /** All keys, in file order. */
-const std::vector<RunConfigKey>& run_config_key_table();
+const IniKeys<RunOptions>& run_config_key_table();
 /** The options as an INI file (every key, current values) — written to DIR/config.ini. */
 std::string format_run_config(const RunOptions& options);
 

@@ -25,11 +25,11 @@ struct EkfSlamOptions
 	/** Optional kf-slam INI (e.g. /usr/share/mrpt/config_files/kf-slam/EKF-SLAM_6D_test.ini); its
 	 * sections [RangeBearingKFSLAM] and [RangeBearingKFSLAM_KalmanFilter] are loaded. Default: none. */
 	std::string ini_file;
-	/** Sensor noise given to the EKF: range in metres, yaw and pitch in degrees. Unset: the INI's
+	/** Sensor noise given to the EKF: range in metres, yaw and pitch in radians. Unset: the INI's
 	 * std_sensor_* if an INI is given, else the observation's own sensor_std_* (first step that has
 	 * a bearing-range observation; a zero std there, as 2D sensors give for pitch, keeps MRPT's
 	 * default and is noted in EkfSlamResult::notes). */
-	std::optional<double> std_range_m, std_yaw_deg, std_pitch_deg;
+	std::optional<double> std_range, std_yaw, std_pitch;
 	/** Additional std of z in the motion model, metres (MRPT's std_odo_z_additional). Unset: the INI's,
 	 * else MRPT's default 0. */
 	std::optional<double> std_odo_z_additional_m;
@@ -45,7 +45,7 @@ struct EkfSlamOptions
 struct EkfSlamResult
 {
 	std::string method;	 ///< the method used (MRPT's name)
-	double std_range_m = 0, std_yaw_deg = 0, std_pitch_deg = 0;	 ///< the sensor noise used
+	double std_range = 0, std_yaw = 0, std_pitch = 0;	 ///< the sensor noise used (m, rad, rad)
 	/** times[i] = k + 1 and poses[i] = robot pose mean after step k, for every processed step. */
 	std::vector<double> times;
 	std::vector<mrpt::poses::CPose3D> poses;

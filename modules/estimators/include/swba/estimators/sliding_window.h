@@ -19,6 +19,7 @@
 #include <swba/core/names.h>
 #include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
+#include <swba/estimators/sensor_noise.h>
 #include <swba/nonlinear/gauge.h>
 #include <swba/nonlinear/solver.h>
 
@@ -90,8 +91,8 @@ struct SlidingWindowOptions
 	GaugeMode gauge = GaugeMode::Fixed;
 	/** Information (per tangent coordinate) of the gauge prior, GaugeMode::Prior only. Default 1e8. */
 	double gauge_prior_weight = 1e8;
-	/** Sensor noise override: a value ≤ 0 uses the observation's own sensor_std_* (default 0). Units: m, rad. */
-	double sensor_std_range = 0.0, sensor_std_yaw = 0.0, sensor_std_pitch = 0.0;
+	/** Sensor noise (m, rad); a value ≤ 0 uses the observation's own. Default: all the observation's. */
+	SensorNoiseOptions sensor;
 	/** Floors of the odometry covariance. */
 	io::OdometryInformationOptions odometry;
 	/** Relative eigenvalue threshold of the marginal prior (see swba::marginalize). Default 1e-12. */
@@ -109,6 +110,10 @@ struct SlidingWindowOptions
 	static SolverOptions default_solver_options();
 	/** Throws std::invalid_argument naming the bad option. */
 	void validate() const;
+	/** The INI keys of the window's own options in `section`: landmarks, gauge, gauge_prior_weight,
+	 * marginalization_threshold. The members solver, sensor and odometry have their own keys
+	 * (SolverOptions::ini_keys etc.); window_size, policy and FEJ are chosen per run by the application. */
+	static IniKeys<SlidingWindowOptions> ini_keys(const std::string& section);
 };
 
 /** What one process() call did. */

@@ -9,6 +9,8 @@
  * poses. The estimate after step k has time t = k + 1 and pairs with ground-truth row k + 1. */
 #pragma once
 
+#include <swba/core/ini.h>
+
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose3D.h>
@@ -162,6 +164,9 @@ struct OdometryInformationOptions
 	double min_sigma_translation = 1e-4;
 	/** Floor on the standard deviation of every rotational tangent direction, radians. Default 1e-4. */
 	double min_sigma_rotation = 1e-4;
+
+	/** The INI keys in `section`: min_sigma_translation_m, min_sigma_rotation_rad (both > 0). */
+	static IniKeys<OdometryInformationOptions> ini_keys(const std::string& section);
 };
 
 /** Σ_tangent = J Σ_ypr Jᵀ (J from ypr_to_tangent_jacobian), without any floor. */

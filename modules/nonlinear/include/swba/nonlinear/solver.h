@@ -4,6 +4,7 @@
  * Options and Summary follow Ceres's conventions (cost = ½Σρ(‖W r‖²)). */
 #pragma once
 
+#include <swba/core/ini.h>
 #include <swba/core/names.h>
 #include <swba/nonlinear/problem.h>
 
@@ -70,6 +71,9 @@ struct SolverOptions
 
 	/** Returns false and sets `why` when an option is out of range. */
 	bool is_valid(std::string* why) const;
+	/** The INI keys of these options in `section`: max_iterations, the three tolerances,
+	 * linear_solver, dense_max_dim and threads. */
+	static IniKeys<SolverOptions> ini_keys(const std::string& section);
 };
 
 enum class TerminationType
