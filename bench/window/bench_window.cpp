@@ -50,13 +50,36 @@ std::string row_name(const RunRow& r)
 	return r.label;
 }
 
-/** The markdown tables of one rawlog. */
-std::string tables(const RunReport& rep, const std::string& title)
+/** The W column: the window size, or a dash for rows without one. */
+std::string window_cell(const RunRow& r) { return r.window ? std::to_string(r.window) : "–"; }
+
+/** The last seven cells of a timing-table row: where a window's time went (LM solve vs
+ * marginalisation) and its state size, means over the steps; dashes for rows without step summaries. */
+std::string step_summary_cells(const RunRow& r)
+{
+	if (r.step_summaries.empty()) return "– | – | – | – | – | – | – |\n";
+	double solve = 0, marg = 0, lms = 0, in_solve = 0;
+	for (const auto& st : r.step_summaries)
+	{
+		solve += st.solve_seconds;
+		marg += st.marginalization_seconds;
+		lms += st.landmarks;
+		in_solve += st.landmarks - st.prior_only_landmarks;
+	}
+	const double n = double(r.step_summaries.size());
+	const auto& last = r.step_summaries.back();
+	std::ostringstream s;
+	s << fmt("%.2f", solve * 1e3 / n) << " | " << fmt("%.2f", marg * 1e3 / n) << " | "
+	  << fmt("%.2f", r.mean_iterations) << " | " << fmt("%.0f", lms / n) << " / " << last.landmarks << " | " << fmt("%.0f", in_solve / n) << " | "
+	  << last.prior_variables << " | " << last.prior_rank << " |\n";
+	return s.str();
+}
+
+/** ms per step with the APE beside it: one row per estimator, its lagged trajectory's APE (the row
+ * that follows a window's online row) in the same row; a failure as a note under its row. */
+std::string timing_table(const RunReport& rep)
 {
 	std::ostringstream s;
-	s << "### " << title << "\n\n";
-	s << "`" << rep.rawlog << "`: " << rep.steps << " steps, " << rep.distinct_landmarks << " landmarks observed, "
-	  << rep.readings << " readings.\n\n";
 	s << "| estimator | W | APE online rmse (m) | APE lagged rmse (m) | ms/step | LM solve ms/step | marginalisation ms/step "
 		 "| mean LM iterations | landmarks in state (mean / end) | landmarks in the LM solve (mean) | prior variables (end) "
 		 "| prior rank (end) |\n";
@@ -66,31 +89,19 @@ std::string tables(const RunReport& rep, const std::string& title)
 		const RunRow& r = rep.rows[i];
 		if (r.trajectory == "lagged") continue;
 		const RunRow* lagged = (i + 1 < rep.rows.size() && rep.rows[i + 1].trajectory == "lagged") ? &rep.rows[i + 1] : nullptr;
-		s << "| " << row_name(r) << " | " << (r.window ? std::to_string(r.window) : "–") << " | "
+		s << "| " << row_name(r) << " | " << window_cell(r) << " | "
 		  << (r.has_ape ? fmt("%.5f", r.ape_trans.rmse) : (r.failed ? "failed" : "–")) << " | "
 		  << (lagged && lagged->has_ape ? fmt("%.5f", lagged->ape_trans.rmse) : "–") << " | " << fmt("%.2f", r.ms_per_step)
-		  << " | ";
-		if (!r.step_summaries.empty())
-		{
-			double solve = 0, marg = 0, lms = 0, in_solve = 0;
-			for (const auto& st : r.step_summaries)
-			{
-				solve += st.solve_seconds;
-				marg += st.marginalization_seconds;
-				lms += st.landmarks;
-				in_solve += st.landmarks - st.prior_only_landmarks;
-			}
-			const double n = double(r.step_summaries.size());
-			const auto& last = r.step_summaries.back();
-			s << fmt("%.2f", solve * 1e3 / n) << " | " << fmt("%.2f", marg * 1e3 / n) << " | "
-			  << fmt("%.2f", r.mean_iterations) << " | " << fmt("%.0f", lms / n) << " / " << last.landmarks << " | " << fmt("%.0f", in_solve / n) << " | "
-			  << last.prior_variables << " | " << last.prior_rank << " |\n";
-		}
-		else
-			s << "– | – | – | – | – | – | – |\n";
+		  << " | " << step_summary_cells(r);
 		if (r.failed) s << "\n(" << r.label << " failed at step " << r.failed_step << ": " << r.failure << ")\n\n";
 	}
-	s << "\nPer-step cost along the run (mean ms/step over each tenth of the steps):\n\n";
+	return s.str();
+}
+
+/** The per-step cost along the run: mean ms/step over each tenth of the steps, one row per estimator. */
+std::string per_tenth_table(const RunReport& rep)
+{
+	std::ostringstream s;
 	s << "| estimator | W |";
 	for (int t = 1; t <= 10; t++) s << " " << t << "/10 |";
 	s << "\n|---|---:|";
@@ -99,13 +110,201 @@ std::string tables(const RunReport& rep, const std::string& title)
 	for (const auto& r : rep.rows)
 	{
 		if (r.trajectory == "lagged" || r.step_ms.empty()) continue;
-		s << "| " << row_name(r) << " | " << (r.window ? std::to_string(r.window) : "–") << " |";
+		s << "| " << row_name(r) << " | " << window_cell(r) << " |";
 		const std::size_t n = r.step_ms.size();
 		for (std::size_t t = 0; t < 10; t++) s << " " << fmt("%.2f", mean_of(r.step_ms, t * n / 10, (t + 1) * n / 10)) << " |";
 		s << "\n";
 	}
+	return s.str();
+}
+
+/** The markdown tables of one rawlog. */
+std::string tables(const RunReport& rep, const std::string& title)
+{
+	std::ostringstream s;
+	s << "### " << title << "\n\n";
+	s << "`" << rep.rawlog << "`: " << rep.steps << " steps, " << rep.distinct_landmarks << " landmarks observed, "
+	  << rep.readings << " readings.\n\n";
+	s << timing_table(rep);
+	s << "\nPer-step cost along the run (mean ms/step over each tenth of the steps):\n\n";
+	s << per_tenth_table(rep);
 	s << "\n";
 	return s.str();
+}
+
+/** How many steps of a rawlog to read, and how many of those the EKF and the SLAM-policy window get
+ * (0 = all; the constant-time window always gets every step read). */
+struct StepLimits
+{
+	std::size_t read = 0, ekf = 0, slam_window = 0;
+};
+
+/** The command line: every option, and the run options and large rawlog it names. */
+struct BenchCommandLine
+{
+	TCLAP::CmdLine cmd{"Sliding window (both landmark policies) vs MRPT's EKF: ms per step with APE, on "
+					   "kf-slam_6D_demo and a 5000-step / 400-landmark simulated rawlog.",
+					   ' ', "0.1.0"};
+	TCLAP::ValueArg<std::string> small{"", "small", "the small rawlog. (Default: kf-slam_6D_demo.rawlog)", false,
+									   std::string(SWBA_MRPT_DATASETS) + "/kf-slam_6D_demo.rawlog", "RAWLOG"};
+	TCLAP::ValueArg<std::string> large{
+		"", "large",
+		"the large rawlog. (Default: <rawlog-dir>/large_6D_5000.rawlog, generated by scripts/make-rawlogs.sh if missing)",
+		false, "", "RAWLOG"};
+	TCLAP::ValueArg<std::string> rawlog_dir{"", "rawlog-dir", "where generated rawlogs go. (Default: <build>/rawlogs)",
+											false, SWBA_BENCH_RAWLOG_DIR, "DIR"};
+	TCLAP::ValueArg<std::string> windows{"", "windows", "window sizes. (Default: 10,30)", false, "10,30", "LIST"};
+	TCLAP::ValueArg<std::string> policy{"", "policy", "slam, constant-time or both. (Default: both)", false, "both", "P"};
+	TCLAP::ValueArg<std::string> ekf_method{"", "ekf-method", "EKF methods. (Default: kfEKFAlaDavison)", false,
+											"kfEKFAlaDavison", "NAMES"};
+	TCLAP::ValueArg<int> large_steps{"", "large-steps", "steps of the large rawlog to run (0 = all). (Default: 0)",
+									 false, 0, "N"};
+	TCLAP::ValueArg<int> ekf_large_steps{
+		"", "ekf-large-steps",
+		"steps of the large rawlog given to the EKF (0 = all; its cost grows with the map, so a prefix "
+		"under-states it). (Default: 0)",
+		false, 0, "N"};
+	TCLAP::ValueArg<int> slam_large_steps{
+		"", "slam-large-steps",
+		"steps of the large rawlog given to the SLAM-policy window (0 = all; its state holds every landmark seen, "
+		"so its cost grows with the map). (Default: 1000)",
+		false, 1000, "N"};
+	TCLAP::SwitchArg no_small{"", "no-small", "skip the small rawlog"};
+	TCLAP::SwitchArg no_large{"", "no-large", "skip the large rawlog"};
+	TCLAP::SwitchArg no_ekf{"", "no-ekf", "skip the EKF"};
+	TCLAP::ValueArg<std::string> markdown{"", "markdown", "also write the tables to FILE", false, "", "FILE"};
+	TCLAP::ValueArg<std::string> config{
+		"", "config",
+		"swba run's INI (doc/run.md) for the window's and solver's options, e.g. [solver] max_iterations; the "
+		"rawlog, windows, policies and EKF methods still come from this command line. (Default: built-in)",
+		false, "", "INI"};
+	TCLAP::SwitchArg keep_prior_only{
+		"", "keep-prior-only-landmarks",
+		"solve with every landmark of the prior in the LM problem (SlidingWindowOptions::eliminate_prior_only_landmarks "
+		"= false), for comparison"};
+
+	BenchCommandLine()
+	{
+		// TCLAP lists options in reverse order of addition.
+		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{
+				 &keep_prior_only, &config, &markdown, &no_ekf, &no_large, &no_small, &slam_large_steps,
+				 &ekf_large_steps, &large_steps, &ekf_method, &policy, &windows, &rawlog_dir, &large, &small})
+			cmd.add(*a);
+	}
+
+	/** The options of every run: the INI of --config (or the built-in defaults), then the windows,
+	 * policies and EKF methods of this command line; never the batch, never plots. TCLAP reads are not const. */
+	RunOptions run_options()
+	{
+		RunOptions o;
+		if (!config.getValue().empty()) swba::apps::load_run_config(config.getValue(), o);
+		if (keep_prior_only.getValue()) o.window.eliminate_prior_only_landmarks = false;
+		o.windows = swba::apps::parse_window_list(windows.getValue(), "--windows");
+		o.policies = swba::apps::parse_policy_list(policy.getValue());
+		o.ekf_methods = swba::apps::parse_ekf_method_list(ekf_method.getValue());
+		o.run_ekf = !no_ekf.getValue();
+		o.run_batch = false;
+		o.plots = false;
+		return o;
+	}
+
+	/** The step limits of the large rawlog (a negative count means all). */
+	StepLimits large_step_limits()
+	{
+		const auto at_least_0 = [](int n) { return std::size_t(std::max(0, n)); };
+		return {at_least_0(large_steps.getValue()), at_least_0(ekf_large_steps.getValue()),
+				at_least_0(slam_large_steps.getValue())};
+	}
+
+	/** --large, else <rawlog-dir>/large_6D_5000.rawlog, generated with scripts/make-rawlogs.sh when missing. */
+	std::string large_rawlog()
+	{
+		if (!large.getValue().empty()) return large.getValue();
+		const std::string path = rawlog_dir.getValue() + "/large_6D_5000.rawlog";
+		if (mrpt::system::fileExists(path)) return path;
+		const std::string c = "bash '" + std::string(SWBA_SOURCE_DIR) + "/scripts/make-rawlogs.sh' '" +
+			rawlog_dir.getValue() + "' large_6D_5000";
+		std::cerr << "bench: generating " << path << ": " << c << "\n";
+		if (std::system(c.c_str()) != 0 || !mrpt::system::fileExists(path))
+			throw std::runtime_error("could not generate " + path + " (needs simul-landmarks from mrpt-apps)");
+		return path;
+	}
+};
+
+/** A rawlog's steps and its ground truth (empty when eval::default_ground_truth_path names no file). */
+struct BenchInput
+{
+	swba::io::Rawlog log;
+	std::vector<mrpt::poses::CPose3D> gt;
+};
+
+/** Reads the first `steps` steps of `rawlog` (0 = all) and its ground truth if present. */
+BenchInput read_input(const std::string& rawlog, std::size_t steps)
+{
+	swba::io::RawlogReaderOptions ro;
+	ro.max_steps = steps;
+	BenchInput in;
+	in.log = swba::io::read_rawlog(rawlog, ro);
+	const std::string gt_path = swba::eval::default_ground_truth_path(rawlog);
+	if (mrpt::system::fileExists(gt_path)) in.gt = swba::eval::read_ground_truth_for(gt_path, in.log.steps.size());
+	std::cerr << "bench: " << rawlog << ": " << in.log.steps.size() << " steps\n";
+	return in;
+}
+
+/** Runs `o` on the first `n` steps of the input (0 = all) and appends its rows to `rep`, labelled
+ * "(first n steps)" when that is fewer than were read. Nothing when `o` runs no estimator. */
+void run_part(const RunOptions& o, const BenchInput& in, std::size_t n, RunReport& rep)
+{
+	if (o.windows.empty() && !o.run_ekf) return;
+	auto part = in.log;
+	if (n && n < part.steps.size()) part.steps.resize(n);
+	auto r = swba::apps::run_estimators(o, part, in.gt, std::cerr);
+	for (auto& row : r.rows)
+	{
+		if (part.steps.size() < in.log.steps.size())
+			row.label += " (first " + std::to_string(part.steps.size()) + " steps)";
+		rep.rows.push_back(std::move(row));
+	}
+}
+
+/** One rawlog: the EKF, the SLAM window and the constant-time window each on its own number of
+ * steps, rows merged into one report. */
+RunReport run_rawlog(const RunOptions& base, const std::string& rawlog, const StepLimits& limits)
+{
+	const BenchInput in = read_input(rawlog, limits.read);
+	RunReport rep;
+	rep.rawlog = in.log.path;
+	rep.steps = in.log.steps.size();
+	rep.distinct_landmarks = in.log.distinct_landmarks;
+	rep.readings = in.log.readings;
+	RunOptions ekf = base;
+	ekf.windows.clear();
+	if (base.run_ekf) run_part(ekf, in, limits.ekf, rep);
+	for (const auto policy : base.policies)
+	{
+		RunOptions w = base;
+		w.run_ekf = false;
+		w.policies = {policy};
+		run_part(w, in, policy == swba::estimators::LandmarkPolicy::Slam ? limits.slam_window : 0, rep);
+	}
+	return rep;
+}
+
+/** Runs one rawlog, prints its tables to stdout and returns them (for --markdown). */
+std::string bench_rawlog(const RunOptions& base, const std::string& rawlog, const StepLimits& limits,
+						 const std::string& title)
+{
+	const std::string t = tables(run_rawlog(base, rawlog, limits), title);
+	std::cout << t << std::flush;
+	return t;
+}
+
+/** Writes the tables of every rawlog to FILE of --markdown. Throws naming the file it cannot write. */
+void write_markdown(const std::string& path, const std::string& text)
+{
+	std::ofstream f(path);
+	f << text;
+	if (!f) throw std::runtime_error("cannot write " + path);
 }
 }  // namespace
 
@@ -113,134 +312,17 @@ int main(int argc, char** argv)
 {
 	try
 	{
-		TCLAP::CmdLine cmd("Sliding window (both landmark policies) vs MRPT's EKF: ms per step with APE, on "
-						   "kf-slam_6D_demo and a 5000-step / 400-landmark simulated rawlog.",
-						   ' ', "0.1.0");
-		TCLAP::ValueArg<std::string> small_arg("", "small", "the small rawlog. (Default: kf-slam_6D_demo.rawlog)", false,
-											   std::string(SWBA_MRPT_DATASETS) + "/kf-slam_6D_demo.rawlog", "RAWLOG");
-		TCLAP::ValueArg<std::string> large_arg(
-			"", "large",
-			"the large rawlog. (Default: <rawlog-dir>/large_6D_5000.rawlog, generated by scripts/make-rawlogs.sh if missing)",
-			false, "", "RAWLOG");
-		TCLAP::ValueArg<std::string> dir_arg("", "rawlog-dir", "where generated rawlogs go. (Default: <build>/rawlogs)",
-											 false, SWBA_BENCH_RAWLOG_DIR, "DIR");
-		TCLAP::ValueArg<std::string> windows_arg("", "windows", "window sizes. (Default: 10,30)", false, "10,30", "LIST");
-		TCLAP::ValueArg<std::string> policy_arg("", "policy", "slam, constant-time or both. (Default: both)", false,
-												"both", "P");
-		TCLAP::ValueArg<std::string> ekf_arg("", "ekf-method", "EKF methods. (Default: kfEKFAlaDavison)", false,
-											 "kfEKFAlaDavison", "NAMES");
-		TCLAP::ValueArg<int> large_steps_arg("", "large-steps", "steps of the large rawlog to run (0 = all). (Default: 0)",
-											 false, 0, "N");
-		TCLAP::ValueArg<int> ekf_large_steps_arg(
-			"", "ekf-large-steps",
-			"steps of the large rawlog given to the EKF (0 = all; its cost grows with the map, so a prefix "
-			"under-states it). (Default: 0)",
-			false, 0, "N");
-		TCLAP::ValueArg<int> slam_large_steps_arg(
-			"", "slam-large-steps",
-			"steps of the large rawlog given to the SLAM-policy window (0 = all; its state holds every landmark seen, "
-			"so its cost grows with the map). (Default: 1000)",
-			false, 1000, "N");
-		TCLAP::SwitchArg no_small_arg("", "no-small", "skip the small rawlog");
-		TCLAP::SwitchArg no_large_arg("", "no-large", "skip the large rawlog");
-		TCLAP::SwitchArg no_ekf_arg("", "no-ekf", "skip the EKF");
-		TCLAP::ValueArg<std::string> md_arg("", "markdown", "also write the tables to FILE", false, "", "FILE");
-		TCLAP::ValueArg<std::string> config_arg(
-			"", "config",
-			"swba run's INI (doc/run.md) for the window's and solver's options, e.g. [solver] max_iterations; the "
-			"rawlog, windows, policies and EKF methods still come from this command line. (Default: built-in)",
-			false, "", "INI");
-		TCLAP::SwitchArg keep_prior_only_arg(
-			"", "keep-prior-only-landmarks",
-			"solve with every landmark of the prior in the LM problem (SlidingWindowOptions::eliminate_prior_only_landmarks "
-			"= false), for comparison");
-		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&keep_prior_only_arg, &config_arg, &md_arg, &no_ekf_arg, &no_large_arg, &no_small_arg,
-																 &slam_large_steps_arg, &ekf_large_steps_arg, &large_steps_arg, &ekf_arg,
-																 &policy_arg, &windows_arg, &dir_arg, &large_arg, &small_arg})
-			cmd.add(*a);
-		if (!cmd.parse(argc, argv)) return 0;
-
-		RunOptions base;
-		if (!config_arg.getValue().empty()) swba::apps::load_run_config(config_arg.getValue(), base);
-		if (keep_prior_only_arg.getValue()) base.window.eliminate_prior_only_landmarks = false;
-		base.windows = swba::apps::parse_window_list(windows_arg.getValue(), "--windows");
-		base.policies = swba::apps::parse_policy_list(policy_arg.getValue());
-		base.ekf_methods = swba::apps::parse_ekf_method_list(ekf_arg.getValue());
-		base.run_ekf = !no_ekf_arg.getValue();
-		base.run_batch = false;
-		base.plots = false;
-
+		BenchCommandLine cl;
+		if (!cl.cmd.parse(argc, argv)) return 0;
+		const RunOptions base = cl.run_options();
 		std::string all;
-		/** One rawlog: the EKF, the SLAM window and the constant-time window each on its own number
-		 * of steps (0 = all), rows merged into one report. */
-		auto run_one = [&](const std::string& rawlog, std::size_t steps, std::size_t ekf_steps, std::size_t slam_steps,
-						   const std::string& title) {
-			swba::io::RawlogReaderOptions ro;
-			ro.max_steps = steps;
-			const auto log = swba::io::read_rawlog(rawlog, ro);
-			const std::string gt_path = swba::eval::default_ground_truth_path(rawlog);
-			std::vector<mrpt::poses::CPose3D> gt;
-			if (mrpt::system::fileExists(gt_path)) gt = swba::eval::read_ground_truth_for(gt_path, log.steps.size());
-			std::cerr << "bench: " << rawlog << ": " << log.steps.size() << " steps\n";
-			RunReport rep;
-			rep.rawlog = log.path;
-			rep.steps = log.steps.size();
-			rep.distinct_landmarks = log.distinct_landmarks;
-			rep.readings = log.readings;
-			auto run_part = [&](RunOptions o, std::size_t n) {
-				if (o.windows.empty() && !o.run_ekf) return;
-				auto part = log;
-				if (n && n < part.steps.size()) part.steps.resize(n);
-				auto r = swba::apps::run_estimators(o, part, gt, std::cerr);
-				for (auto& row : r.rows)
-				{
-					if (part.steps.size() < log.steps.size())
-						row.label += " (first " + std::to_string(part.steps.size()) + " steps)";
-					rep.rows.push_back(std::move(row));
-				}
-			};
-			RunOptions ekf = base;
-			ekf.windows.clear();
-			if (base.run_ekf) run_part(ekf, ekf_steps);
-			for (const auto policy : base.policies)
-			{
-				RunOptions w = base;
-				w.run_ekf = false;
-				w.policies = {policy};
-				run_part(w, policy == swba::estimators::LandmarkPolicy::Slam ? slam_steps : 0);
-			}
-			const std::string t = tables(rep, title);
-			std::cout << t << std::flush;
-			all += t;
-		};
-
-		if (!no_small_arg.getValue()) run_one(small_arg.getValue(), 0, 0, 0, "kf-slam_6D_demo");
-		if (!no_large_arg.getValue())
+		if (!cl.no_small.getValue()) all += bench_rawlog(base, cl.small.getValue(), {}, "kf-slam_6D_demo");
+		if (!cl.no_large.getValue())
 		{
-			std::string large = large_arg.getValue();
-			if (large.empty())
-			{
-				large = dir_arg.getValue() + "/large_6D_5000.rawlog";
-				if (!mrpt::system::fileExists(large))
-				{
-					const std::string c = "bash '" + std::string(SWBA_SOURCE_DIR) + "/scripts/make-rawlogs.sh' '" +
-						dir_arg.getValue() + "' large_6D_5000";
-					std::cerr << "bench: generating " << large << ": " << c << "\n";
-					if (std::system(c.c_str()) != 0 || !mrpt::system::fileExists(large))
-						throw std::runtime_error("could not generate " + large + " (needs simul-landmarks from mrpt-apps)");
-				}
-			}
-			const int ls = std::max(0, large_steps_arg.getValue());
-			const int es = std::max(0, ekf_large_steps_arg.getValue());
-			const int ss = std::max(0, slam_large_steps_arg.getValue());
-			run_one(large, std::size_t(ls), std::size_t(es), std::size_t(ss), "large_6D_5000 (simul-landmarks)");
+			const std::string large = cl.large_rawlog();
+			all += bench_rawlog(base, large, cl.large_step_limits(), "large_6D_5000 (simul-landmarks)");
 		}
-		if (!md_arg.getValue().empty())
-		{
-			std::ofstream f(md_arg.getValue());
-			f << all;
-			if (!f) throw std::runtime_error("cannot write " + md_arg.getValue());
-		}
+		if (!cl.markdown.getValue().empty()) write_markdown(cl.markdown.getValue(), all);
 		return 0;
 	}
 	catch (const std::exception& e)
