@@ -48,9 +48,8 @@ IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& 
 											  "landmark parameterisation", [](auto& o) -> auto& { return o.landmarks; }),
 		enum_key<O, GaugeMode>(section, "gauge", "gauge: first pose fixed, free, or an SE(3) prior on it", "gauge",
 							   [](auto& o) -> auto& { return o.gauge; }),
-		{section, "gauge_prior_weight", "1/(m^2 or rad^2)", "information of the gauge prior (gauge = prior only)",
-		 [](const S& v, O& o) { o.gauge_prior_weight = parse_positive(v); },
-		 [](const O& o) { return format_double(o.gauge_prior_weight); }},
+		number_key<O>(section, "gauge_prior_weight", "1/(m^2 or rad^2)",
+					  "information of the gauge prior (gauge = prior only)", &O::gauge_prior_weight, parse_positive),
 		{section, "marginalization_threshold", "relative", "relative eigenvalue cut of the marginal prior, in [0, 1)",
 		 [](const S& v, O& o) {
 			 const double d = parse_non_negative(v);

@@ -52,15 +52,12 @@ Eigen::Matrix<double, 6, 6> odometry_information(
 
 IniKeys<OdometryInformationOptions> OdometryInformationOptions::ini_keys(const std::string& section)
 {
-	using S = std::string;
 	using O = OdometryInformationOptions;
-	return {
-		{section, "min_sigma_translation_m", "m", "floor of the odometry's translational standard deviations",
-		 [](const S& v, O& o) { o.min_sigma_translation = ini::parse_positive(v); },
-		 [](const O& o) { return ini::format_double(o.min_sigma_translation); }},
-		{section, "min_sigma_rotation_rad", "rad", "floor of the odometry's rotational standard deviations",
-		 [](const S& v, O& o) { o.min_sigma_rotation = ini::parse_positive(v); },
-		 [](const O& o) { return ini::format_double(o.min_sigma_rotation); }},
-	};
+	return {ini::number_key<O>(section, "min_sigma_translation_m", "m",
+							   "floor of the odometry's translational standard deviations", &O::min_sigma_translation,
+							   ini::parse_positive),
+			ini::number_key<O>(section, "min_sigma_rotation_rad", "rad",
+							   "floor of the odometry's rotational standard deviations", &O::min_sigma_rotation,
+							   ini::parse_positive)};
 }
 }  // namespace swba::io

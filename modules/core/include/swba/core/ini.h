@@ -57,6 +57,15 @@ double parse_non_negative(const std::string& v);
 std::string format_double(double v);
 std::string format_bool(bool b);
 
+/** A key holding a double member, read with `parse` (e.g. parse_positive) and written exactly. */
+template <class T>
+IniKey<T> number_key(const std::string& section, const std::string& key, const std::string& unit,
+					 const std::string& meaning, double T::*field, double (*parse)(const std::string&))
+{
+	return {section, key, unit, meaning, [field, parse](const std::string& v, T& o) { o.*field = parse(v); },
+			[field](const T& o) { return format_double(o.*field); }};
+}
+
 /** A key holding an enum with a names table (swba/core/names.h); its unit lists the names and a
  * bad value is reported as "unknown <what> '<text>' (expected …)". */
 template <class T, class E, class Member>
