@@ -5,6 +5,9 @@
 
 #include "range_bearing_graph.h"
 
+#include <swba/core/lie.h>
+#include <swba/core/manifold.h>
+
 #include <algorithm>
 #include <chrono>
 #include <set>
@@ -150,8 +153,45 @@ const eval::Trajectory& SlidingWindowEstimator::online_trajectory() const { retu
 const eval::Trajectory& SlidingWindowEstimator::lagged_trajectory() const { return impl_->lagged; }
 const std::vector<StepSummary>& SlidingWindowEstimator::step_summaries() const { return impl_->summaries; }
 const SlidingWindowOptions& SlidingWindowEstimator::options() const { return impl_->graph.options(); }
-const smoother::FixedLagSmoother& SlidingWindowEstimator::smoother() const { return impl_->graph.smoother(); }
-bool SlidingWindowEstimator::is_world_point(VariableId v) const { return impl_->graph.is_world_point(v); }
+
+Eigen::MatrixXd SlidingWindowEstimator::prior_information() const
+{
+	const Eigen::MatrixXd& J = impl_->graph.smoother().prior().J();
+	return J.transpose() * J;
+}
+
+Eigen::MatrixXd SlidingWindowEstimator::prior_gauge_directions() const
+{
+	const auto& sm = impl_->graph.smoother();
+	int n = 0;
+	for (VariableId v : sm.prior().variables()) n += sm.problem().variable(v).manifold->tangent_size();
+	Eigen::MatrixXd N = Eigen::MatrixXd::Zero(n, 6);
+	int off = 0;
+	for (VariableId v : sm.prior().variables())
+	{
+		const auto& var = sm.problem().variable(v);
+		const double* x = sm.linearization_point(v);
+		if (var.manifold->tangent_size() == 6)
+		{
+			// The global motion p ↦ p + u + w × p as a right perturbation of T = [R | t]:
+			// δρ = Rᵀ(u + w × t), δω = Rᵀw.
+			const auto T = se3_view(x);
+			const Eigen::Matrix3d Rt = T.leftCols<3>().transpose();
+			N.block<3, 3>(off, 0) = Rt;
+			N.block<3, 3>(off, 3) = -Rt * skew(T.col(3));
+			N.block<3, 3>(off + 3, 3) = Rt;
+		}
+		else if (impl_->graph.is_world_point(v))
+		{
+			const Eigen::Vector3d p(x[0], x[1], x[2]);
+			N.block<3, 3>(off, 0) = Eigen::Matrix3d::Identity();
+			N.block<3, 3>(off, 3) = -skew(p);
+		}
+		// An anchored inverse-depth landmark is relative to its anchor pose: invariant, zero rows.
+		off += var.manifold->tangent_size();
+	}
+	return N;
+}
 
 // ----------------------------------------------------------------------------------------------
 BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& options, int max_iterations)

@@ -30,14 +30,6 @@
 #include <string>
 #include <vector>
 
-namespace swba::smoother
-{
-class FixedLagSmoother;
-}
-namespace swba::test
-{
-class SlidingWindowInspector;
-}
 
 namespace swba::estimators
 {
@@ -169,16 +161,17 @@ class SlidingWindowEstimator
 	const std::vector<StepSummary>& step_summaries() const;
 	const SlidingWindowOptions& options() const;
 
+	/** Consistency diagnostics of the marginal prior (empty matrices while there is none). */
+	/** Its information H = JᵀJ over its variables, in their tangent coordinates. */
+	Eigen::MatrixXd prior_information() const;
+	/** The 6 global SE(3) motions (translation, rotation) as columns in the same coordinates, at the
+	 * prior's linearisation point. The window's cost is invariant under them, so a prior that does not
+	 * invent information about the global pose has H·N ≈ 0; ‖H·N‖ / ‖H‖ measures the leak. */
+	Eigen::MatrixXd prior_gauge_directions() const;
+
    private:
 	struct Impl;
 	std::unique_ptr<Impl> impl_;
-	/** White-box checks of the marginal prior (tests/window) read the smoother and the landmark
-	 * parameterisation through the two accessors below. */
-	friend class swba::test::SlidingWindowInspector;
-	const smoother::FixedLagSmoother& smoother() const;
-	/** Whether landmark variable `v` holds a world point (XYZ, or switched to world XYZ) rather than an
-	 * anchor-relative inverse depth. */
-	bool is_world_point(VariableId v) const;
 };
 
 /** Result of run_batch(). */
