@@ -19,6 +19,7 @@
 #include <swba/core/names.h>
 #include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
+#include <swba/estimators/pose_model.h>
 #include <swba/estimators/sensor_noise.h>
 #include <swba/nonlinear/gauge.h>
 #include <swba/nonlinear/solver.h>
@@ -85,6 +86,11 @@ struct SlidingWindowOptions
 	double gauge_prior_weight = 1e8;
 	/** Sensor noise (m, rad); a value ≤ 0 uses the observation's own. Default: all the observation's. */
 	SensorNoiseOptions sensor;
+	/** 6D or planar robot (doc/window.md, "Planar rawlogs"). Planar: SE(2) poses, landmarks as world
+	 * points at the sensor's height (the landmarks option does not apply: a 2D reading measures the
+	 * range, so there is no depth to parameterise), readings (range, yaw) with σ_range, σ_yaw only.
+	 * Default Auto: decided by the first step (io::is_planar_step with 2D odometry). */
+	PoseModel model = PoseModel::Auto;
 	/** Floors of the odometry covariance. */
 	io::OdometryInformationOptions odometry;
 	/** Relative eigenvalue threshold of the marginal prior (see swba::marginalize). Default 1e-12. */
@@ -102,7 +108,7 @@ struct SlidingWindowOptions
 	static SolverOptions default_solver_options();
 	/** Throws std::invalid_argument naming the bad option. */
 	void validate() const;
-	/** The INI keys of the window's own options in `section`: landmarks, gauge, gauge_prior_weight,
+	/** The INI keys of the window's own options in `section`: landmarks, model, gauge, gauge_prior_weight,
 	 * marginalization_threshold. The members solver, sensor and odometry have their own keys
 	 * (SolverOptions::ini_keys etc.); window_size, policy and FEJ are chosen per run by the application. */
 	static IniKeys<SlidingWindowOptions> ini_keys(const std::string& section);
