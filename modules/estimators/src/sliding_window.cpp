@@ -212,7 +212,17 @@ BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& opti
 	o.window_size = 0;
 	detail::RangeBearingGraph graph(o);
 	StepSummary unused;
-	for (const auto& s : rawlog.steps) graph.add_step(s, unused);
+	for (const auto& s : rawlog.steps)
+	{
+		try
+		{
+			graph.add_step(s, unused);
+		}
+		catch (const std::invalid_argument& e)
+		{
+			throw StepError(s.index, e.what());
+		}
+	}
 	SolverOptions so = o.solver;
 	so.max_iterations = max_iterations;
 	so.function_tolerance = std::min(so.function_tolerance, 1e-12);
@@ -229,7 +239,17 @@ eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const Sliding
 	SlidingWindowOptions o = options;
 	o.window_size = 0;
 	SlidingWindowEstimator est(o);
-	for (const auto& s : rawlog.steps) est.process(s);
+	for (const auto& s : rawlog.steps)
+	{
+		try
+		{
+			est.process(s);
+		}
+		catch (const std::invalid_argument& e)
+		{
+			throw StepError(s.index, e.what());
+		}
+	}
 	return est.online_trajectory();
 }
 }  // namespace swba::estimators

@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -180,6 +181,18 @@ class SlidingWindowEstimator
 	std::unique_ptr<Impl> impl_;
 };
 
+/** Bad data at one step (e.g. no odometry, a non-positive sensor noise), found while building the
+ * problem: what() names the step, step() is its index k. */
+class StepError : public std::invalid_argument
+{
+   public:
+	StepError(std::size_t step, const std::string& what) : std::invalid_argument(what), step_(step) {}
+	std::size_t step() const { return step_; }
+
+   private:
+	std::size_t step_;
+};
+
 /** Result of run_batch(). */
 struct BatchResult
 {
@@ -189,10 +202,12 @@ struct BatchResult
 };
 
 /** The same factors over the whole rawlog in one problem (window = ∞), initialised by dead
- * reckoning and first observations, solved once. `max_iterations` overrides the options' solver. */
+ * reckoning and first observations, solved once. `max_iterations` overrides the options' solver.
+ * Throws StepError for bad data at a step. */
 BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& options, int max_iterations = 100);
 
 /** "Online, W = ∞": re-solves the whole history after every step and keeps the newest pose (the
- * causal optimum the online window trajectory is measured against). O(steps²): for evaluation. */
+ * causal optimum the online window trajectory is measured against). O(steps²): for evaluation.
+ * Throws StepError for bad data at a step. */
 eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const SlidingWindowOptions& options);
 }  // namespace swba::estimators
