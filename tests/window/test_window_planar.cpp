@@ -11,11 +11,7 @@ using namespace swba::estimators;
 
 namespace
 {
-const io::Rawlog& demo2d()
-{
-	static const io::Rawlog r = io::read_rawlog(test::dataset("kf-slam_demo.rawlog"));
-	return r;
-}
+const io::Rawlog& demo2d() { return test::cached_rawlog("kf-slam_demo.rawlog"); }
 const eval::Trajectory& gt2d()
 {
 	static const eval::Trajectory t = test::ground_truth(test::dataset("kf-slam_demo_ground_truth_robot_path.txt"));
