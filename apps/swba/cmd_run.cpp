@@ -135,7 +135,12 @@ int run_run(int argc, char** argv)
 		throw UsageError(e.what());
 	}
 	if (o.rawlog.empty()) o.rawlog = std::string(SWBA_DEFAULT_DATASETS) + "/kf-slam_6D_demo.rawlog";
-	apps::run_app(o, std::cout, std::cerr);
+	const apps::RunReport report = apps::run_app(o, std::cout, std::cerr);
+	if (apps::every_estimator_failed(report))
+	{
+		std::cerr << "swba run: error: every estimator failed (see the table)\n";
+		return 1;
+	}
 	return 0;
 }
 SWBA_REGISTER_COMMAND("run", "EKF vs sliding window vs batch on an MRPT rawlog: APE table and files", run_run);

@@ -36,7 +36,7 @@ std::string non_default_ini()
 {
 	return "[run]\nrawlog = a.rawlog\nground_truth = a_gt.txt\nout_dir = elsewhere\nmax_steps = 7\n"
 		   "batch = false\nbatch_max_iterations = 3\ncausal = true\nplots = false\nprogress = false\n"
-		   "[window]\nsizes = 3,4\npolicy = both\nfej = off\nlandmarks = xyz\ngauge = prior\ngauge_prior_weight = 5\n"
+		   "[window]\nsizes = 3,4\npolicy = both\nfej = off\nlandmarks = xyz\nmodel = 2d\ngauge = prior\ngauge_prior_weight = 5\n"
 		   "marginalization_threshold = 0.5\n"
 		   "[solver]\nmax_iterations = 4\nfunction_tolerance = 0.5\ngradient_tolerance = 0.25\n"
 		   "parameter_tolerance = 0.125\nlinear_solver = dense-normal\ndense_max_dim = 9\nthreads = 2\n"

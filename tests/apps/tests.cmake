@@ -80,3 +80,17 @@ swba_run_case(ekf_failure_is_a_row 0
   JSON 100 3
   ARGS ${SWBA_MRPT_DATASETS}/kf-slam_6D_demo_noncentered.rawlog --ekf-method kfEKFAlaDavison --windows 2 --no-batch
        --no-plots --max-steps 100 --out ${_out}/ekf_failure_is_a_row)
+
+# A 2D rawlog (mrpt-common's kf-slam_demo: 2D odometry, readings without pitch) with no flags: the planar
+# model and MRPT's 2D EKF, every row with figures.
+set(_demo2d ${SWBA_MRPT_DATASETS}/kf-slam_demo.rawlog)
+swba_run_case(planar_no_flags 0
+  REGEX "\nekf kfEKFAlaDavison +- +online +0\\.00[0-9]+ .*\nwindow W=5 +5 +online +0\\.00[0-9]+ .*\nwindow W=30 lagged +30 +lagged +0\\.00[0-9]+ .*\nbatch +- +smoothed +0\\.00[0-9]+ .*planar rawlog[^\n]*2D model.*note: ekf kfEKFAlaDavison: MRPT's 2D filter CRangeBearingKFSLAM2D"
+  NOT_REGEX "FAILED"
+  JSON 249 11
+  ARGS ${_demo2d} --no-plots --out ${_out}/planar_no_flags)
+# Every estimator failed (the 6D model on 2D data: no pitch noise): each row reported with the real
+# failing step (the batch's too), then exit 1.
+swba_run_case(every_estimator_failed 1
+  REGEX "\nwindow W=5 +5 +online [^\n]*FAILED at step 0: step 0: sensor noise is not positive[^\n]*\n.*\nbatch +- +smoothed [^\n]*FAILED at step 0: step 0: sensor noise[^\n]*\n.*swba run: error: every estimator failed"
+  ARGS ${_demo2d} --config ${_data}/model_6d.ini --no-ekf --windows 5 --no-plots --out ${_out}/every_estimator_failed)

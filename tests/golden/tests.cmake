@@ -19,6 +19,8 @@ endfunction()
 # swba run: the default rawlog with every default, and both policies x FEJ on/off.
 swba_golden(run_default run --out <work>/out)
 swba_golden(run_policy_fej run --policy both --fej both --max-steps 150 --out <work>/out)
+# swba run on a 2D rawlog with every default: the planar model and MRPT's 2D EKF.
+swba_golden(run_planar run ${SWBA_MRPT_DATASETS}/kf-slam_demo.rawlog --out <work>/out)
 # swba bal: the shipped BAL problem (threads do not change the figures).
 swba_golden(bal bal ${_data}/bal/problem-49-7776-pre.txt)
 # swba pgo: a 2D and two 3D pose graphs.

@@ -173,7 +173,18 @@ TEST(EkfSlam, Runs2dDemo)
 	const auto res = swba::estimators::run_ekf_slam(log.steps, opt);
 	EXPECT_FALSE(res.failed) << res.failure;
 	EXPECT_EQ(res.poses.size(), 249u);
-	EXPECT_NE(res.notes.find("sensor_std_pitch is 0"), std::string::npos) << res.notes;
+	// A planar rawlog runs MRPT's 2D filter (range and yaw noise only: no pitch note).
+	EXPECT_EQ(res.model, swba::estimators::PoseModel::Planar);
+	EXPECT_EQ(res.notes.find("sensor_std_pitch"), std::string::npos) << res.notes;
+	EXPECT_EQ(res.std_pitch, 0.0);
+	EXPECT_FLOAT_EQ(static_cast<float>(res.std_range), static_cast<float>(log.steps.front().sensor_std_range));
+	for (const auto& p : res.poses) EXPECT_TRUE(p.z() == 0.0 && p.pitch() == 0.0 && p.roll() == 0.0);
+	// The 6D filter on the same data, asked for explicitly, keeps MRPT's default pitch noise (noted).
+	opt.model = swba::estimators::PoseModel::Spatial;
+	opt.max_steps = 5;
+	const auto res6 = swba::estimators::run_ekf_slam(log.steps, opt);
+	EXPECT_EQ(res6.model, swba::estimators::PoseModel::Spatial);
+	EXPECT_NE(res6.notes.find("sensor_std_pitch is 0"), std::string::npos) << res6.notes;
 	// The 2D demo's ground truth: the estimate after step k pairs with row k + 1.
 	const auto gt = swba::eval::read_mrpt_ground_truth(kDatasets + "/kf-slam_demo_ground_truth_robot_path.txt").poses;
 	ASSERT_EQ(gt.size(), 250u);

@@ -93,3 +93,30 @@ TEST(OdometryInformation, FloorMakes2dOdometryFinite)
 	EXPECT_NEAR(info(1, 1), 1e4, 1e-6);
 	EXPECT_THROW(swba::io::odometry_information(odo, {0.0, 1e-3}), std::invalid_argument);
 }
+
+// The planar odometry factor's information: the inverse of the (ρx, ρy, ωz) block of Σ_tangent, i.e.
+// of J Σ_(x,y,yaw) Jᵀ with J = diag(R(yaw)ᵀ, 1), correlations included; nothing from z/pitch/roll.
+TEST(OdometryInformation, PlanarInformationIsTheInverseOfThePlanarCovariance)
+{
+	mrpt::poses::CPose3DPDFGaussian odo;
+	const double yaw = 0.7;
+	odo.mean = mrpt::poses::CPose3D(0.3, -0.1, 0.0, yaw, 0.0, 0.0);
+	odo.cov.setZero();
+	Eigen::Matrix3d S;  // (x, y, yaw), correlated
+	S << 4e-4, 1e-4, 2e-5, 1e-4, 9e-4, -3e-5, 2e-5, -3e-5, 1e-4;
+	const int idx[3] = {0, 1, 3};
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++) odo.cov(idx[i], idx[j]) = S(i, j);
+	Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
+	J.topLeftCorner<2, 2>() << std::cos(yaw), std::sin(yaw), -std::sin(yaw), std::cos(yaw);  // R(yaw)ᵀ
+	const Eigen::Matrix3d expected_cov = J * S * J.transpose();
+	const Eigen::Matrix3d info = swba::io::planar_odometry_information(odo);
+	EXPECT_LE((info * expected_cov - Eigen::Matrix3d::Identity()).norm(), 1e-9);
+	// Floors: a yaw variance below the rotational floor is raised to it.
+	odo.cov.setZero();
+	odo.cov(0, 0) = odo.cov(1, 1) = 1e-4;
+	const Eigen::Matrix3d floored = swba::io::planar_odometry_information(odo, {1e-3, 2e-3});
+	EXPECT_NEAR(floored(2, 2), 1.0 / (2e-3 * 2e-3), 1e-3);
+	EXPECT_NEAR(floored(0, 0), 1e4, 1e-6);
+	EXPECT_THROW(swba::io::planar_odometry_information(odo, {1e-3, 0.0}), std::invalid_argument);
+}

@@ -431,3 +431,20 @@ TEST(RawlogReader, SimulLandmarksRawlogs)
 	}
 	EXPECT_GE(checked, 1);
 }
+
+TEST(RawlogReader, PlanarDetection)
+{
+	auto log = read_rawlog(kDatasets + "/kf-slam_demo.rawlog");
+	EXPECT_TRUE(swba::io::is_planar(log.steps));
+	EXPECT_FALSE(swba::io::is_planar(read_rawlog(kDatasets + "/kf-slam_6D_demo.rawlog").steps));
+	// One reading with a pitch makes the step, and so the rawlog, not planar.
+	auto& step = log.steps.at(10);
+	ASSERT_FALSE(step.readings.empty());
+	step.readings.front().pitch = 0.01;
+	EXPECT_FALSE(swba::io::is_planar_step(step));
+	EXPECT_FALSE(swba::io::is_planar(log.steps));
+	step.readings.front().pitch = 0.0;
+	// A 3D odometry is not planar either.
+	step.odometry_is_2d = false;
+	EXPECT_FALSE(swba::io::is_planar(log.steps));
+}

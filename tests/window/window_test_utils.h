@@ -6,11 +6,21 @@
 #include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
 
+#include <map>
 #include <string>
 
 namespace swba::test
 {
 inline std::string dataset(const std::string& name) { return std::string(SWBA_MRPT_DATASETS) + "/" + name; }
+
+/** An mrpt-common rawlog, read once per test binary. */
+inline const io::Rawlog& cached_rawlog(const std::string& name)
+{
+	static std::map<std::string, io::Rawlog> cache;
+	auto it = cache.find(name);
+	if (it == cache.end()) it = cache.emplace(name, io::read_rawlog(dataset(name))).first;
+	return it->second;
+}
 
 inline eval::Trajectory ground_truth(const std::string& path)
 {

@@ -2,6 +2,7 @@
 
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/slam/CRangeBearingKFSLAM.h>
+#include <mrpt/slam/CRangeBearingKFSLAM2D.h>
 #include <mrpt/system/filesystem.h>
 #include <mrpt/typemeta/TEnumType.h>
 
@@ -22,6 +23,28 @@ double process_cpu_seconds()
 	return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
+using Ekf3D = mrpt::slam::CRangeBearingKFSLAM;
+using Ekf2D = mrpt::slam::CRangeBearingKFSLAM2D;
+
+/** What differs between MRPT's 6D and 2D filters: the 2D one has no pitch noise and no z motion noise
+ * (nullptr), and reports a CPose2D. */
+float* pitch_std(Ekf3D& ekf) { return &ekf.options.std_sensor_pitch; }
+float* pitch_std(Ekf2D&) { return nullptr; }
+float* odo_z_std(Ekf3D& ekf) { return &ekf.options.std_odo_z_additional; }
+float* odo_z_std(Ekf2D&) { return nullptr; }
+mrpt::poses::CPose3D robot_pose(const Ekf3D& ekf) { return mrpt::poses::CPose3D(ekf.getCurrentRobotPoseMean()); }
+mrpt::poses::CPose3D robot_pose(const Ekf2D& ekf)
+{
+	mrpt::poses::CPosePDFGaussian p;
+	ekf.getCurrentRobotPose(p);
+	return mrpt::poses::CPose3D(p.mean);
+}
+
+void add_note(EkfSlamResult& res, const std::string& note)
+{
+	res.notes += (res.notes.empty() ? "" : "; ") + note;
+}
+
 /** Throws unless v is finite and > 0; returns v. */
 double checked_positive(double v, const char* what)
 {
@@ -33,7 +56,8 @@ double checked_positive(double v, const char* what)
 /** The filter's options before the overrides: the INI file if given, else kfEKFAlaDavison with the
  * sensor noise of the first step that has a bearing-range observation (a zero std there keeps MRPT's
  * default and is noted in res.notes). */
-void load_base_options(mrpt::slam::CRangeBearingKFSLAM& ekf, const std::vector<io::RawlogStep>& steps,
+template <class Ekf>
+void load_base_options(Ekf& ekf, const std::vector<io::RawlogStep>& steps,
 					   const EkfSlamOptions& options, EkfSlamResult& res)
 {
 	if (!options.ini_file.empty())
@@ -57,43 +81,49 @@ void load_base_options(mrpt::slam::CRangeBearingKFSLAM& ekf, const std::vector<i
 		if (v > 0)
 			dst = static_cast<float>(v);
 		else
-			res.notes += std::string(res.notes.empty() ? "" : "; ") + "the observation's " + name +
-				" is 0: MRPT's default kept";
+			add_note(res, std::string("the observation's ") + name + " is 0: MRPT's default kept");
 	};
 	take(with_obs->sensor_std_range, ekf.options.std_sensor_range, "sensor_std_range");
 	take(with_obs->sensor_std_yaw, ekf.options.std_sensor_yaw, "sensor_std_yaw");
-	take(with_obs->sensor_std_pitch, ekf.options.std_sensor_pitch, "sensor_std_pitch");
+	if (float* pitch = pitch_std(ekf)) take(with_obs->sensor_std_pitch, *pitch, "sensor_std_pitch");
 }
 
-/** The explicit options over the INI / defaults, validated; the values used are recorded in `res`. */
-void apply_overrides(mrpt::slam::CRangeBearingKFSLAM& ekf, const EkfSlamOptions& options, EkfSlamResult& res)
+/** The explicit options over the INI / defaults, validated; the values used are recorded in `res`.
+ * The 2D filter has no pitch and no z motion noise: those options are not used (noted). */
+template <class Ekf>
+void apply_overrides(Ekf& ekf, const EkfSlamOptions& options, EkfSlamResult& res)
 {
 	using mrpt::bayes::TKFMethod;
 	if (options.method) ekf.KF_options.method = static_cast<TKFMethod>(ekf_method_from_name(*options.method));
 	if (options.std_range)
 		ekf.options.std_sensor_range = static_cast<float>(checked_positive(*options.std_range, "std_range"));
 	if (options.std_yaw) ekf.options.std_sensor_yaw = static_cast<float>(checked_positive(*options.std_yaw, "std_yaw"));
-	if (options.std_pitch)
-		ekf.options.std_sensor_pitch = static_cast<float>(checked_positive(*options.std_pitch, "std_pitch"));
+	float* pitch = pitch_std(ekf);
+	if (options.std_pitch && pitch) *pitch = static_cast<float>(checked_positive(*options.std_pitch, "std_pitch"));
+	if (options.std_pitch && !pitch) add_note(res, "std_pitch not used by the 2D filter");
 	if (options.std_odo_z_additional_m)
 	{
 		if (!(*options.std_odo_z_additional_m >= 0))
 			throw std::invalid_argument("EKF option std_odo_z_additional_m must be >= 0");
-		ekf.options.std_odo_z_additional = static_cast<float>(*options.std_odo_z_additional_m);
+		if (float* z = odo_z_std(ekf))
+			*z = static_cast<float>(*options.std_odo_z_additional_m);
+		else
+			add_note(res, "std_odo_z_additional_m not used by the 2D filter");
 	}
 	checked_positive(ekf.options.std_sensor_range, "std_range");
 	checked_positive(ekf.options.std_sensor_yaw, "std_yaw");
-	checked_positive(ekf.options.std_sensor_pitch, "std_pitch");
+	if (pitch) checked_positive(*pitch, "std_pitch");
 
 	res.method = mrpt::typemeta::TEnumType<TKFMethod>::value2name(ekf.KF_options.method);
 	res.std_range = ekf.options.std_sensor_range;
 	res.std_yaw = ekf.options.std_sensor_yaw;
-	res.std_pitch = ekf.options.std_sensor_pitch;
+	res.std_pitch = pitch ? *pitch : 0.0;
 }
 
 /** Silence (no console logging, no profiler table) unless verbose; warnings are counted in `res`
  * through a callback, so `res` must outlive the filter. */
-void route_mrpt_log(mrpt::slam::CRangeBearingKFSLAM& ekf, const EkfSlamOptions& options, EkfSlamResult& res)
+template <class Ekf>
+void route_mrpt_log(Ekf& ekf, const EkfSlamOptions& options, EkfSlamResult& res)
 {
 	if (!options.mrpt_verbose)
 	{
@@ -110,7 +140,8 @@ void route_mrpt_log(mrpt::slam::CRangeBearingKFSLAM& ekf, const EkfSlamOptions& 
 
 /** Feeds the first n steps to the filter, recording each pose and the time spent inside
  * processActionObservation; stops at (and records) the first failure. */
-void process_steps(mrpt::slam::CRangeBearingKFSLAM& ekf, const std::vector<io::RawlogStep>& steps, std::size_t n,
+template <class Ekf>
+void process_steps(Ekf& ekf, const std::vector<io::RawlogStep>& steps, std::size_t n,
 				   const EkfSlamOptions& options, EkfSlamResult& res)
 {
 	res.times.reserve(n);
@@ -148,7 +179,7 @@ void process_steps(mrpt::slam::CRangeBearingKFSLAM& ekf, const std::vector<io::R
 		}
 		add_time();
 		res.times.push_back(steps[k].time());
-		res.poses.emplace_back(ekf.getCurrentRobotPoseMean());
+		res.poses.push_back(robot_pose(ekf));
 		res.steps_processed++;
 		if (options.progress) options.progress(k + 1, n);
 	}
@@ -175,19 +206,32 @@ int ekf_method_from_name(const std::string& name)
 	throw std::invalid_argument("unknown EKF method '" + name + "' (expected " + expected + ")");
 }
 
+namespace
+{
+template <class Ekf>
+void run_filter(const std::vector<io::RawlogStep>& steps, std::size_t n, const EkfSlamOptions& options,
+				EkfSlamResult& res)
+{
+	Ekf ekf;
+	load_base_options(ekf, steps, options, res);
+	apply_overrides(ekf, options, res);
+	route_mrpt_log(ekf, options, res);
+	process_steps(ekf, steps, n, options, res);
+	res.landmarks = ekf.getNumberOfLandmarksInTheMap();
+}
+}  // namespace
+
 EkfSlamResult run_ekf_slam(const std::vector<io::RawlogStep>& steps, const EkfSlamOptions& options)
 {
 	EkfSlamResult res;
 	if (steps.empty()) throw std::invalid_argument("run_ekf_slam: no steps");
 	const std::size_t n = options.max_steps ? std::min(options.max_steps, steps.size()) : steps.size();
 	res.steps_total = n;
-
-	mrpt::slam::CRangeBearingKFSLAM ekf;
-	load_base_options(ekf, steps, options, res);
-	apply_overrides(ekf, options, res);
-	route_mrpt_log(ekf, options, res);
-	process_steps(ekf, steps, n, options, res);
-	res.landmarks = ekf.getNumberOfLandmarksInTheMap();
+	res.model = resolve_pose_model(options.model, steps);
+	if (res.model == PoseModel::Planar)
+		run_filter<Ekf2D>(steps, n, options, res);
+	else
+		run_filter<Ekf3D>(steps, n, options, res);
 	return res;
 }
 }  // namespace swba::estimators

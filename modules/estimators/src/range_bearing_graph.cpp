@@ -1,6 +1,7 @@
 #include "range_bearing_graph.h"
 
 #include <swba/factors/between_pose.h>
+#include <swba/factors/planar.h>
 #include <swba/factors/pose_prior.h>
 
 #include <algorithm>
@@ -27,24 +28,60 @@ smoother::FixedLagSmootherOptions smoother_options(const SlidingWindowOptions& o
 	s.solver = o.solver;
 	return s;
 }
+
+/** The pose on the plane z = 0: (x, y, yaw). */
+mrpt::poses::CPose3D planar_part(const mrpt::poses::CPose3D& p) { return {p.x(), p.y(), 0.0, p.yaw(), 0.0, 0.0}; }
+/** A 2D sensor on the robot as MRPT's 2D EKF takes it (x, y, yaw), at its height z: its landmarks
+ * lie on the plane of that height. */
+mrpt::poses::CPose3D planar_sensor(const mrpt::poses::CPose3D& p) { return {p.x(), p.y(), p.z(), p.yaw(), 0.0, 0.0}; }
+
+/** A factor on planar variables: `rows` of `f`, pose coordinates (ρx, ρy, ωz) for the variables
+ * flagged in `is_pose`, (x, y) for the others. */
+std::shared_ptr<Factor> planar(std::shared_ptr<const Factor> f, std::vector<int> rows, const std::vector<bool>& is_pose)
+{
+	std::vector<std::vector<int>> coords;
+	for (bool pose : is_pose) coords.push_back(pose ? planar_pose_coordinates() : std::vector<int>{0, 1});
+	return std::make_shared<SubspaceFactor>(std::move(f), std::move(rows), std::move(coords));
+}
 }  // namespace
 
 RangeBearingGraph::RangeBearingGraph(const SlidingWindowOptions& options)
 	: opt_(validated(options)), smoother_(smoother_options(opt_))
 {
-	Problem& problem = smoother_.problem();
-	const VariableId v0 = problem.add_pose(mrpt::poses::CPose3D());
+	if (opt_.model != PoseModel::Auto) initialise(opt_.model);
+}
+
+void RangeBearingGraph::initialise(PoseModel model)
+{
+	model_ = model;
+	const VariableId v0 = add_pose_variable(mrpt::poses::CPose3D());
 	poses_.push_back({0.0, v0, mrpt::poses::CPose3D()});
 	step_of_[v0] = 0;
 	smoother_.add_state(0.0, v0);
 	if (opt_.gauge == GaugeMode::Fixed)
-		problem.set_constant(v0);
+		smoother_.problem().set_constant(v0);
 	else if (opt_.gauge == GaugeMode::Prior)
 	{
-		auto f = std::make_shared<PosePriorFactor>(mrpt::poses::CPose3D());
-		f->set_information(opt_.gauge_prior_weight * Eigen::MatrixXd::Identity(6, 6));
+		std::shared_ptr<Factor> f = std::make_shared<PosePriorFactor>(mrpt::poses::CPose3D());
+		const int n = model_ == PoseModel::Planar ? 3 : 6;
+		if (model_ == PoseModel::Planar) f = planar(f, planar_pose_coordinates(), {true});
+		f->set_information(opt_.gauge_prior_weight * Eigen::MatrixXd::Identity(n, n));
 		smoother_.add_factor(f, {v0});
 	}
+}
+
+VariableId RangeBearingGraph::add_pose_variable(const mrpt::poses::CPose3D& pose)
+{
+	Problem& problem = smoother_.problem();
+	if (model_ != PoseModel::Planar) return problem.add_pose(pose);
+	double x[SE3Manifold::kAmbient];
+	SE3Manifold::from_pose(planar_part(pose), x);
+	return problem.add_variable(x, planar_pose_manifold(), Group::Kept);
+}
+
+mrpt::poses::CPose3D RangeBearingGraph::pose(VariableId var) const
+{
+	return SE3Manifold::to_pose(smoother_.problem().value(var));
 }
 
 bool RangeBearingGraph::is_world_point(VariableId v) const
@@ -92,7 +129,14 @@ FactorId RangeBearingGraph::add_observation_factor(const Landmark& lm, const Obs
 		f = std::make_shared<RangeBearingInverseDepthFactor>(o.z, P.sensor, poses_[lm.anchor_step].sensor);
 		vars = {poses_[lm.anchor_step].var, P.var, lm.var};
 	}
-	f->set_information(o.sigma.cwiseInverse().cwiseAbs2().asDiagonal().toDenseMatrix());
+	if (model_ == PoseModel::Planar)
+	{
+		// Range and yaw only: a 2D sensor measures no pitch (its row is identically 0 on the plane).
+		f = planar(f, {0, 1}, {true, false});
+		f->set_information(o.sigma.head<2>().cwiseInverse().cwiseAbs2().asDiagonal().toDenseMatrix());
+	}
+	else
+		f->set_information(o.sigma.cwiseInverse().cwiseAbs2().asDiagonal().toDenseMatrix());
 	return smoother_.add_factor(f, vars);
 }
 
@@ -109,28 +153,54 @@ Landmark& RangeBearingGraph::add_landmark(std::int32_t id, const Observation& o)
 		x0 = inverse_depth_to_world(problem.value(poses_[k].var), poses_[k].sensor, lam);
 	else
 		x0 = lam;
-	lm.var = problem.add_variable(x0, euclidean_manifold(3), Group::Eliminable);
+	if (model_ == PoseModel::Planar)
+	{
+		// A point on the sensor's plane, held there: a world point from the start (no re-anchoring).
+		x0 = inverse_depth_to_world(problem.value(poses_[k].var), poses_[k].sensor, lam);
+		lm.world_xyz = true;
+	}
+	std::shared_ptr<const Manifold> manifold = euclidean_manifold(3);
+	if (model_ == PoseModel::Planar) manifold = planar_point_manifold();
+	lm.var = problem.add_variable(x0, std::move(manifold), Group::Eliminable);
 	landmark_of_var_[lm.var] = lm.id;
 	return landmarks_.emplace(lm.id, std::move(lm)).first->second;
+}
+
+void RangeBearingGraph::add_odometry_factor(const io::RawlogStep& step, VariableId vprev, VariableId vnew)
+{
+	std::shared_ptr<Factor> odo = std::make_shared<BetweenPoseFactor>(step.odometry.mean);
+	if (model_ == PoseModel::Planar)
+	{
+		odo = planar(odo, planar_pose_coordinates(), {true, true});
+		odo->set_information(io::planar_odometry_information(step.odometry, opt_.odometry));
+	}
+	else
+		odo->set_information(io::odometry_information(step.odometry, opt_.odometry));
+	smoother_.add_factor(odo, {vprev, vnew});
 }
 
 void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 {
 	if (!step.has_odometry) throw std::invalid_argument("step " + std::to_string(step.index) + " has no odometry");
-	Problem& problem = smoother_.problem();
+	if (model_ == PoseModel::Auto)
+		initialise(step.odometry_is_2d && io::is_planar_step(step) ? PoseModel::Planar : PoseModel::Spatial);
+	if (model_ == PoseModel::Planar && !io::is_planar_step(step))
+		throw std::invalid_argument("step " + std::to_string(step.index) +
+									": 3D odometry or a reading with pitch in a planar run (set the model to 6d)");
 	const VariableId vprev = smoother_.states().back().var;
-	const mrpt::poses::CPose3D pose_new = problem.pose(vprev) + step.odometry.mean;
-	const VariableId vnew = problem.add_pose(pose_new);
-	if (step.has_observation) last_sensor_ = step.sensor_pose;
-	poses_.push_back({step.time(), vnew, step.has_observation ? step.sensor_pose : last_sensor_});
+	const VariableId vnew = add_pose_variable(pose(vprev) + step.odometry.mean);
+	if (step.has_observation) last_sensor_ = model_ == PoseModel::Planar ? planar_sensor(step.sensor_pose) : step.sensor_pose;
+	poses_.push_back({step.time(), vnew, last_sensor_});
 	const std::size_t k = poses_.size() - 1;
 	step_of_[vnew] = k;
 	smoother_.add_state(step.time(), vnew);
-	auto odo = std::make_shared<BetweenPoseFactor>(step.odometry.mean);
-	odo->set_information(io::odometry_information(step.odometry, opt_.odometry));
-	smoother_.add_factor(odo, {vprev, vnew});
+	add_odometry_factor(step, vprev, vnew);
 	if (step.readings.empty()) return;
-	const Eigen::Vector3d sigma = opt_.sensor.resolve(step);
+	Eigen::Vector3d sigma;
+	if (model_ == PoseModel::Planar)
+		sigma << opt_.sensor.resolve_range_yaw(step), 0.0;
+	else
+		sigma = opt_.sensor.resolve(step);
 	for (const auto& rd : step.readings)
 	{
 		Observation o{k, {rd.range, rd.yaw, rd.pitch}, sigma, -1};

@@ -3,7 +3,11 @@
  * SE(3) pose per step (odometry between consecutive poses, the first pose gauge-fixed as the options
  * say), one landmark variable per landmark ID (inverse depth in its anchor's sensor frame, or world
  * XYZ), one range-bearing factor per reading. The window (SlidingWindowEstimator) and the batch run
- * (run_batch) are both built on it. */
+ * (run_batch) are both built on it.
+ *
+ * Planar model (PoseModel::Planar): the same graph restricted to the plane (swba/factors/planar.h):
+ * poses updated in (ρx, ρy, ωz), landmarks as world points updated in (x, y) at the sensor's height,
+ * odometry factors on (ρx, ρy, ωz) with the 3×3 planar information, readings on (range, yaw). */
 #pragma once
 
 #include <swba/estimators/sliding_window.h>
@@ -48,8 +52,14 @@ class RangeBearingGraph
 {
    public:
 	/** Validates `options` (throws std::invalid_argument) and adds the first pose at the origin (time 0)
-	 * as the first state, constant or with a pose prior as options.gauge says. */
+	 * as the first state, constant or with a pose prior as options.gauge says; with PoseModel::Auto
+	 * that happens at the first add_step, once the model is known. */
 	explicit RangeBearingGraph(const SlidingWindowOptions& options);
+
+	/** The model chosen (Auto before the first step). */
+	PoseModel model() const { return model_; }
+	/** The pose of variable `var` (an SE(3) or planar pose variable). */
+	mrpt::poses::CPose3D pose(VariableId var) const;
 
 	const SlidingWindowOptions& options() const { return opt_; }
 	smoother::FixedLagSmoother& smoother() { return smoother_; }
@@ -57,7 +67,8 @@ class RangeBearingGraph
 
 	/** Adds the step's pose (dead reckoning from the newest pose), its odometry factor and one factor
 	 * per reading (a new landmark initialised from its first reading); counts readings in `sum`.
-	 * Throws std::invalid_argument on a step without odometry or with a non-positive sensor noise. */
+	 * Throws std::invalid_argument on a step without odometry or with a non-positive sensor noise, and
+	 * in the planar model on a step that is not planar (3D odometry, a reading with pitch). */
 	void add_step(const io::RawlogStep& step, StepSummary& sum);
 
 	/** Every pose ever created, by step (0 = initial). */
@@ -88,6 +99,12 @@ class RangeBearingGraph
 	void convert_to_world_xyz(Landmark& lm);
 
    private:
+	/** Fixes the model (Spatial or Planar) and adds the first pose and its gauge. */
+	void initialise(PoseModel model);
+	/** A new pose variable (planar: projected on the plane). */
+	VariableId add_pose_variable(const mrpt::poses::CPose3D& pose);
+	/** Adds the odometry factor of `step` between `vprev` and `vnew`. */
+	void add_odometry_factor(const io::RawlogStep& step, VariableId vprev, VariableId vnew);
 	/** Adds the landmark of a first reading, initialised from it at pose step k. */
 	Landmark& add_landmark(std::int32_t id, const Observation& o);
 	/** Builds the factor of observation `o` of landmark `lm` (given its current anchor). */
@@ -97,6 +114,7 @@ class RangeBearingGraph
 	void replace_landmark_variable(Landmark& lm, VariableId v);
 
 	SlidingWindowOptions opt_;
+	PoseModel model_ = PoseModel::Auto;
 	smoother::FixedLagSmoother smoother_;
 	std::vector<PoseRecord> poses_;
 	std::map<VariableId, std::size_t> step_of_;

@@ -19,14 +19,29 @@ IniKey<SensorNoiseOptions> degrees_key(const std::string& section, const char* k
 }
 }  // namespace
 
-Eigen::Vector3d SensorNoiseOptions::resolve(const io::RawlogStep& step) const
+namespace
 {
-	const Eigen::Vector3d s(std_range > 0 ? std_range : step.sensor_std_range, std_yaw > 0 ? std_yaw : step.sensor_std_yaw,
-							std_pitch > 0 ? std_pitch : step.sensor_std_pitch);
-	for (int i = 0; i < 3; i++)
+void check_positive(const Eigen::VectorXd& s, const io::RawlogStep& step)
+{
+	for (Eigen::Index i = 0; i < s.size(); i++)
 		if (!(s[i] > 0))
 			throw std::invalid_argument("step " + std::to_string(step.index) +
 										": sensor noise is not positive (set sensor_std_* in the options)");
+}
+}  // namespace
+
+Eigen::Vector3d SensorNoiseOptions::resolve(const io::RawlogStep& step) const
+{
+	const Eigen::Vector2d ry = resolve_range_yaw(step);
+	const Eigen::Vector3d s(ry[0], ry[1], std_pitch > 0 ? std_pitch : step.sensor_std_pitch);
+	check_positive(s, step);
+	return s;
+}
+
+Eigen::Vector2d SensorNoiseOptions::resolve_range_yaw(const io::RawlogStep& step) const
+{
+	const Eigen::Vector2d s(std_range > 0 ? std_range : step.sensor_std_range, std_yaw > 0 ? std_yaw : step.sensor_std_yaw);
+	check_positive(s, step);
 	return s;
 }
 

@@ -7,6 +7,7 @@
 
 #include <swba/core/lie.h>
 #include <swba/core/manifold.h>
+#include <swba/factors/planar.h>
 
 #include <algorithm>
 #include <chrono>
@@ -84,7 +85,7 @@ struct SlidingWindowEstimator::Impl
 	{
 		const smoother::TimedState oldest = smoother().states().front();
 		const std::set<VariableId> leaving = landmarks_leaving_with(graph.step_of(oldest.var), sum);
-		lagged.push_back(oldest.time, smoother().problem().pose(oldest.var));
+		lagged.push_back(oldest.time, graph.pose(oldest.var));
 		const std::set<FactorId> removed = smoother().marginalize_oldest(leaving);
 		graph.forget_observations(removed);
 		for (VariableId v : leaving)
@@ -99,7 +100,7 @@ struct SlidingWindowEstimator::Impl
 		sum.step = step.index;
 		graph.add_step(step, sum);
 		solve(sum);
-		online.push_back(step.time(), smoother().problem().pose(smoother().states().back().var));
+		online.push_back(step.time(), graph.pose(smoother().states().back().var));
 		if (smoother().over_lag())
 		{
 			const auto tm = Clock::now();
@@ -119,9 +120,10 @@ struct SlidingWindowEstimator::Impl
 	{
 		if (finished) return;
 		finished = true;
+		if (graph.poses().empty()) return;  // no step processed (model still undecided)
 		const VariableId initial = graph.poses().front().var;
 		for (const auto& s : smoother().states())
-			if (s.var != initial) lagged.push_back(s.time, smoother().problem().pose(s.var));
+			if (s.var != initial) lagged.push_back(s.time, graph.pose(s.var));
 	}
 };
 
@@ -136,13 +138,15 @@ void SlidingWindowEstimator::finish() { impl_->finish(); }
 mrpt::poses::CPose3D SlidingWindowEstimator::current_pose() const
 {
 	const auto& sm = impl_->graph.smoother();
-	return sm.problem().pose(sm.states().back().var);
+	if (sm.states().empty()) return mrpt::poses::CPose3D();  // before the first step: the origin
+	return impl_->graph.pose(sm.states().back().var);
 }
 std::vector<std::pair<double, mrpt::poses::CPose3D>> SlidingWindowEstimator::window_poses() const
 {
 	const auto& sm = impl_->graph.smoother();
 	std::vector<std::pair<double, mrpt::poses::CPose3D>> out;
-	for (const auto& s : sm.states()) out.emplace_back(s.time, sm.problem().pose(s.var));
+	if (sm.states().empty()) out.emplace_back(0.0, mrpt::poses::CPose3D());  // before the first step
+	for (const auto& s : sm.states()) out.emplace_back(s.time, impl_->graph.pose(s.var));
 	return out;
 }
 std::map<std::int32_t, Eigen::Vector3d> SlidingWindowEstimator::landmarks() const
@@ -171,25 +175,32 @@ Eigen::MatrixXd SlidingWindowEstimator::prior_gauge_directions() const
 	{
 		const auto& var = sm.problem().variable(v);
 		const double* x = sm.linearization_point(v);
-		if (var.manifold->tangent_size() == 6)
+		// Rows in the base manifold's tangent coordinates (a planar variable keeps some of them).
+		const auto* sub = dynamic_cast<const SubspaceManifold*>(var.manifold.get());
+		const int base_size = sub ? sub->base()->tangent_size() : var.manifold->tangent_size();
+		Eigen::MatrixXd B = Eigen::MatrixXd::Zero(base_size, 6);
+		if (base_size == 6)
 		{
 			// The global motion p ↦ p + u + w × p as a right perturbation of T = [R | t]:
 			// δρ = Rᵀ(u + w × t), δω = Rᵀw.
 			const auto T = se3_view(x);
 			const Eigen::Matrix3d Rt = T.leftCols<3>().transpose();
-			N.block<3, 3>(off, 0) = Rt;
-			N.block<3, 3>(off, 3) = -Rt * skew(T.col(3));
-			N.block<3, 3>(off + 3, 3) = Rt;
+			B.block<3, 3>(0, 0) = Rt;
+			B.block<3, 3>(0, 3) = -Rt * skew(T.col(3));
+			B.block<3, 3>(3, 3) = Rt;
 		}
 		else if (impl_->graph.is_world_point(v))
 		{
 			const Eigen::Vector3d p(x[0], x[1], x[2]);
-			N.block<3, 3>(off, 0) = Eigen::Matrix3d::Identity();
-			N.block<3, 3>(off, 3) = -skew(p);
+			B.block<3, 3>(0, 0) = Eigen::Matrix3d::Identity();
+			B.block<3, 3>(0, 3) = -skew(p);
 		}
 		// An anchored inverse-depth landmark is relative to its anchor pose: invariant, zero rows.
+		for (int i = 0; i < var.manifold->tangent_size(); i++) N.row(off + i) = B.row(sub ? sub->coordinates()[i] : i);
 		off += var.manifold->tangent_size();
 	}
+	// A planar model moves only along x, y and the yaw about z: the other motions are no gauge of it.
+	if (impl_->graph.model() == PoseModel::Planar) N.middleCols<3>(2).setZero();
 	return N;
 }
 
@@ -201,15 +212,24 @@ BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& opti
 	o.window_size = 0;
 	detail::RangeBearingGraph graph(o);
 	StepSummary unused;
-	for (const auto& s : rawlog.steps) graph.add_step(s, unused);
+	for (const auto& s : rawlog.steps)
+	{
+		try
+		{
+			graph.add_step(s, unused);
+		}
+		catch (const std::invalid_argument& e)
+		{
+			throw StepError(s.index, e.what());
+		}
+	}
 	SolverOptions so = o.solver;
 	so.max_iterations = max_iterations;
 	so.function_tolerance = std::min(so.function_tolerance, 1e-12);
 	BatchResult r;
 	r.summary = graph.smoother().solve(so);
-	const Problem& problem = graph.smoother().problem();
 	for (std::size_t k = 1; k < graph.poses().size(); k++)
-		r.trajectory.push_back(graph.poses()[k].time, problem.pose(graph.poses()[k].var));
+		r.trajectory.push_back(graph.poses()[k].time, graph.pose(graph.poses()[k].var));
 	r.seconds = seconds_since(t0);
 	return r;
 }
@@ -219,7 +239,17 @@ eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const Sliding
 	SlidingWindowOptions o = options;
 	o.window_size = 0;
 	SlidingWindowEstimator est(o);
-	for (const auto& s : rawlog.steps) est.process(s);
+	for (const auto& s : rawlog.steps)
+	{
+		try
+		{
+			est.process(s);
+		}
+		catch (const std::invalid_argument& e)
+		{
+			throw StepError(s.index, e.what());
+		}
+	}
 	return est.online_trajectory();
 }
 }  // namespace swba::estimators

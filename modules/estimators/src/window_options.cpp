@@ -6,6 +6,12 @@
 
 namespace swba::estimators
 {
+PoseModel resolve_pose_model(PoseModel model, const std::vector<io::RawlogStep>& steps)
+{
+	if (model != PoseModel::Auto) return model;
+	return io::is_planar(steps) ? PoseModel::Planar : PoseModel::Spatial;
+}
+
 LandmarkParameterization parse_landmark_parameterization(const std::string& s)
 {
 	return parse_enum<LandmarkParameterization>(s, "landmark parameterisation");
@@ -46,6 +52,8 @@ IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& 
 	return {
 		enum_key<O, LandmarkParameterization>(section, "landmarks", "landmark parameterisation",
 											  "landmark parameterisation", [](auto& o) -> auto& { return o.landmarks; }),
+		enum_key<O, PoseModel>(section, "model", "robot model: auto (from the data), 6d or 2d (planar)", "robot model",
+							   [](auto& o) -> auto& { return o.model; }),
 		enum_key<O, GaugeMode>(section, "gauge", "gauge: first pose fixed, free, or an SE(3) prior on it", "gauge",
 							   [](auto& o) -> auto& { return o.gauge; }),
 		number_key<O>(section, "gauge_prior_weight", "1/(m^2 or rad^2)",

@@ -31,8 +31,6 @@ bool PriorOnlyElimination::split(const Problem& problem, const MarginalPrior& pr
 			!var.constant && var.factors.size() == 1 && *var.factors.begin() == prior.factor() && eliminable(vars[i]);
 		if (prior_only)
 		{
-			if (var.manifold->ambient_size() != n)
-				throw std::invalid_argument("PriorOnlyElimination: eliminable variables must be Euclidean");
 			passive_.push_back(vars[i]);
 			passive_lin_.push_back(x_lin[i]);
 			for (int c = 0; c < n; c++) pcols_.push_back(off + c);
@@ -93,10 +91,13 @@ void PriorOnlyElimination::end(Problem& problem, MarginalPrior& prior)
 	int off = 0;
 	for (std::size_t i = 0; i < passive_.size(); i++)
 	{
+		// x = x_lin ⊞ δp: the prior is quadratic in δ = x ⊟ x_lin whatever the manifold (a planar
+		// landmark's storage is R³, its update (x, y)).
 		const auto& lin = passive_lin_[i];
+		const Manifold& m = *problem.variable(passive_[i]).manifold;
 		std::vector<double> x(lin.size());
-		for (std::size_t c = 0; c < lin.size(); c++) x[c] = lin[c] + dp[off + static_cast<Eigen::Index>(c)];
-		off += static_cast<int>(lin.size());
+		m.plus(lin.data(), dp.data() + off, x.data());
+		off += m.tangent_size();
 		problem.set_value(passive_[i], x.data());
 		problem.set_constant(passive_[i], false);
 	}

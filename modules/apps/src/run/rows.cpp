@@ -87,6 +87,7 @@ RunRow run_ekf_row(const RowContext& ctx, const std::string& method, std::vector
 	estimators::EkfSlamOptions eo;
 	eo.method = method;
 	eo.ini_file = ctx.options.ekf_ini;
+	eo.model = ctx.base.model;
 	set_ekf_sensor_noise(ctx, eo);
 	ProgressLine progress(ctx.log, ctx.options.progress, row.label, ctx.rawlog.steps.size());
 	auto last = Clock::now();
@@ -111,6 +112,8 @@ RunRow run_ekf_row(const RowContext& ctx, const std::string& method, std::vector
 	row.steps = res.steps_processed;
 	row.ms_per_step = res.ms_per_step;
 	if (res.failed) mark_failed(row, res.failed_step, res.failure);
+	if (res.model == estimators::PoseModel::Planar)
+		notes.push_back(row.label + ": MRPT's 2D filter CRangeBearingKFSLAM2D (planar rawlog)");
 	if (!res.notes.empty()) notes.push_back(row.label + ": " + res.notes);
 	if (res.mrpt_warnings)
 		notes.push_back(row.label + ": " + std::to_string(res.mrpt_warnings) + " MRPT warnings, first: " +
@@ -203,6 +206,10 @@ RunRow single_task_row(const RowContext& ctx, RunRow row, const std::string& ann
 	try
 	{
 		task(row);
+	}
+	catch (const estimators::StepError& e)
+	{
+		mark_failed(row, e.step(), one_line(e.what()));
 	}
 	catch (const std::exception& e)
 	{

@@ -64,6 +64,8 @@ void print_inputs(const RunOptions& options, const io::Rawlog& rawlog, const std
 			<< " not found; give --gt FILE): no APE\n";
 	else
 		log << "swba run: ground truth " << gt_path << "\n";
+	if (io::is_planar(rawlog.steps))
+		log << "swba run: planar rawlog (2D odometry, readings without pitch): 2D model, MRPT's CRangeBearingKFSLAM2D\n";
 	for (const auto& w : rawlog.warnings) log << "warning: " << w << "\n";
 	if (rawlog.warning_count > rawlog.warnings.size())
 		log << "warning: ... " << (rawlog.warning_count - rawlog.warnings.size()) << " more warnings\n";
@@ -89,6 +91,13 @@ RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
 	if (options.run_causal) report.rows.push_back(run_causal_row(ctx, unbounded));
 	name_ekf_files(report);
 	return report;
+}
+
+bool every_estimator_failed(const RunReport& report)
+{
+	for (const auto& r : report.rows)
+		if (!r.failed) return false;
+	return !report.rows.empty();
 }
 
 RunReport run_app(const RunOptions& options, std::ostream& out, std::ostream& log)

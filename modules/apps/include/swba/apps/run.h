@@ -89,6 +89,9 @@ std::string format_summary_json(const RunReport& report);
 void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& ground_truth,
 					   RunReport& report);
 
+/** True when the report has rows and every one of them failed (swba run then exits 1). */
+bool every_estimator_failed(const RunReport& report);
+
 /** The whole `swba run`: reads the rawlog (options.rawlog must be set) and the ground truth, runs,
  * prints the table to `out`, writes the files; notes and progress go to `log`. Throws on bad input
  * (one-line messages naming the file/option). */

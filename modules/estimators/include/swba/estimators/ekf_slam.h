@@ -1,9 +1,12 @@
 /** \file ekf_slam.h
- * MRPT's EKF range-bearing SLAM (mrpt::slam::CRangeBearingKFSLAM, 6D robot + 3D landmarks) run
- * in-process over the steps of a rawlog, as the peer of the window estimator. An MRPT exception
+ * MRPT's EKF range-bearing SLAM run in-process over the steps of a rawlog, as the peer of the window
+ * estimator: mrpt::slam::CRangeBearingKFSLAM (6D robot, 3D landmarks) or, for a planar rawlog,
+ * mrpt::slam::CRangeBearingKFSLAM2D (2D robot, 2D landmarks, range-yaw readings), as MRPT's kf-slam
+ * application runs it with kf_implementation = CRangeBearingKFSLAM2D. An MRPT exception
  * (the EKF throws on kf-slam_6D_demo_noncentered) is recorded, never propagated. */
 #pragma once
 
+#include <swba/estimators/pose_model.h>
 #include <swba/io/rawlog.h>
 
 #include <mrpt/poses/CPose3D.h>
@@ -33,6 +36,10 @@ struct EkfSlamOptions
 	/** Additional std of z in the motion model, metres (MRPT's std_odo_z_additional). Unset: the INI's,
 	 * else MRPT's default 0. */
 	std::optional<double> std_odo_z_additional_m;
+	/** Which filter: Spatial = CRangeBearingKFSLAM, Planar = CRangeBearingKFSLAM2D (which has no pitch
+	 * noise and no z motion noise: std_pitch and std_odo_z_additional_m are then not used, and noted).
+	 * Default Auto: Planar when io::is_planar(steps). */
+	PoseModel model = PoseModel::Auto;
 	/** Process at most this many steps (0 = all). Default 0. */
 	std::size_t max_steps = 0;
 	/** Called after every step with (steps done, total steps); may be empty. Default empty. */
@@ -45,7 +52,8 @@ struct EkfSlamOptions
 struct EkfSlamResult
 {
 	std::string method;	 ///< the method used (MRPT's name)
-	double std_range = 0, std_yaw = 0, std_pitch = 0;	 ///< the sensor noise used (m, rad, rad)
+	PoseModel model = PoseModel::Spatial;  ///< the filter run (Spatial: 6D, Planar: 2D)
+	double std_range = 0, std_yaw = 0, std_pitch = 0;	 ///< the sensor noise used (m, rad, rad; pitch 0 in 2D)
 	/** times[i] = k + 1 and poses[i] = robot pose mean after step k, for every processed step. */
 	std::vector<double> times;
 	std::vector<mrpt::poses::CPose3D> poses;
@@ -75,7 +83,7 @@ struct EkfSlamResult
  * the valid names otherwise. */
 int ekf_method_from_name(const std::string& name);
 
-/** Runs MRPT's CRangeBearingKFSLAM over `steps` (from swba::io::read_rawlog). Throws
+/** Runs MRPT's CRangeBearingKFSLAM (or CRangeBearingKFSLAM2D, see EkfSlamOptions::model) over `steps` (from swba::io::read_rawlog). Throws
  * std::invalid_argument / std::runtime_error only for bad options (unknown method, missing INI,
  * non-positive noise, empty steps); an exception of MRPT during a step is recorded in the result. */
 EkfSlamResult run_ekf_slam(const std::vector<io::RawlogStep>& steps, const EkfSlamOptions& options = {});

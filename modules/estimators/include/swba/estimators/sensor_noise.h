@@ -21,6 +21,8 @@ struct SensorNoiseOptions
 	/** Each set value, else the step's own: (range, yaw, pitch) in m, rad, rad. Throws
 	 * std::invalid_argument naming the step when one of them is not > 0 (e.g. a 2D sensor's pitch). */
 	Eigen::Vector3d resolve(const io::RawlogStep& step) const;
+	/** (range, yaw) as resolve() does, for a 2D sensor (its pitch std, usually 0, is not used). */
+	Eigen::Vector2d resolve_range_yaw(const io::RawlogStep& step) const;
 	/** Throws std::invalid_argument when a value is not finite. */
 	void validate() const;
 	/** The INI keys in `section`: std_range_m, std_yaw_deg, std_pitch_deg (≥ 0; 0 = the observation's own). */

@@ -19,6 +19,7 @@
 #include <swba/core/names.h>
 #include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
+#include <swba/estimators/pose_model.h>
 #include <swba/estimators/sensor_noise.h>
 #include <swba/nonlinear/gauge.h>
 #include <swba/nonlinear/solver.h>
@@ -27,6 +28,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -85,6 +87,11 @@ struct SlidingWindowOptions
 	double gauge_prior_weight = 1e8;
 	/** Sensor noise (m, rad); a value ≤ 0 uses the observation's own. Default: all the observation's. */
 	SensorNoiseOptions sensor;
+	/** 6D or planar robot (doc/window.md, "Planar rawlogs"). Planar: SE(2) poses, landmarks as world
+	 * points at the sensor's height (the landmarks option does not apply: a 2D reading measures the
+	 * range, so there is no depth to parameterise), readings (range, yaw) with σ_range, σ_yaw only.
+	 * Default Auto: decided by the first step (io::is_planar_step with 2D odometry). */
+	PoseModel model = PoseModel::Auto;
 	/** Floors of the odometry covariance. */
 	io::OdometryInformationOptions odometry;
 	/** Relative eigenvalue threshold of the marginal prior (see swba::marginalize). Default 1e-12. */
@@ -102,7 +109,7 @@ struct SlidingWindowOptions
 	static SolverOptions default_solver_options();
 	/** Throws std::invalid_argument naming the bad option. */
 	void validate() const;
-	/** The INI keys of the window's own options in `section`: landmarks, gauge, gauge_prior_weight,
+	/** The INI keys of the window's own options in `section`: landmarks, model, gauge, gauge_prior_weight,
 	 * marginalization_threshold. The members solver, sensor and odometry have their own keys
 	 * (SolverOptions::ini_keys etc.); window_size, policy and FEJ are chosen per run by the application. */
 	static IniKeys<SlidingWindowOptions> ini_keys(const std::string& section);
@@ -174,6 +181,18 @@ class SlidingWindowEstimator
 	std::unique_ptr<Impl> impl_;
 };
 
+/** Bad data at one step (e.g. no odometry, a non-positive sensor noise), found while building the
+ * problem: what() names the step, step() is its index k. */
+class StepError : public std::invalid_argument
+{
+   public:
+	StepError(std::size_t step, const std::string& what) : std::invalid_argument(what), step_(step) {}
+	std::size_t step() const { return step_; }
+
+   private:
+	std::size_t step_;
+};
+
 /** Result of run_batch(). */
 struct BatchResult
 {
@@ -183,10 +202,12 @@ struct BatchResult
 };
 
 /** The same factors over the whole rawlog in one problem (window = ∞), initialised by dead
- * reckoning and first observations, solved once. `max_iterations` overrides the options' solver. */
+ * reckoning and first observations, solved once. `max_iterations` overrides the options' solver.
+ * Throws StepError for bad data at a step. */
 BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& options, int max_iterations = 100);
 
 /** "Online, W = ∞": re-solves the whole history after every step and keeps the newest pose (the
- * causal optimum the online window trajectory is measured against). O(steps²): for evaluation. */
+ * causal optimum the online window trajectory is measured against). O(steps²): for evaluation.
+ * Throws StepError for bad data at a step. */
 eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const SlidingWindowOptions& options);
 }  // namespace swba::estimators

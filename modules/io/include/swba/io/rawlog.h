@@ -181,4 +181,18 @@ Eigen::Matrix<double, 6, 6> odometry_tangent_covariance(const mrpt::poses::CPose
  * std::invalid_argument on non-finite input or non-positive floors. */
 Eigen::Matrix<double, 6, 6> odometry_information(
 	const mrpt::poses::CPose3DPDFGaussian& odometry, const OdometryInformationOptions& options = {});
+
+/** Information of the planar part (ρx, ρy, ωz) of the between-factor residual, for a robot on the
+ * plane: the marginal of Σ_tangent over those three directions (no information is taken from the
+ * z/pitch/roll rows, which a 2D odometry leaves at zero variance), floored like odometry_information
+ * (translation floor on ρx, ρy, rotation floor on ωz). Throws as odometry_information. */
+Eigen::Matrix3d planar_odometry_information(const mrpt::poses::CPose3DPDFGaussian& odometry,
+											const OdometryInformationOptions& options = {});
+
+/** A step of a planar (2D) robot: its odometry, if any, is a CActionRobotMovement2D and every
+ * reading has pitch exactly 0 (a 2D sensor measures range and yaw only). */
+bool is_planar_step(const RawlogStep& step);
+/** Every step is planar and at least one has odometry: the 2D model applies (what MRPT's
+ * CRangeBearingKFSLAM2D and the window's planar model estimate). */
+bool is_planar(const std::vector<RawlogStep>& steps);
 }  // namespace swba::io
