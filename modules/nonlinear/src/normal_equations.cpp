@@ -224,4 +224,22 @@ double NormalEquations::model_decrease(const Eigen::VectorXd& delta) const
 	Eigen::Map<const Eigen::VectorXd> g(g_.data(), g_.size());
 	return -g.dot(delta) - 0.5 * quad;
 }
+double NormalEquations::factor_model_decrease(int f, const Eigen::VectorXd& delta) const
+{
+	if (!evaluator_.valid(f)) return 0.0;
+	const auto& fs = program_.factor(f);
+	Eigen::VectorXd jd = Eigen::VectorXd::Zero(fs.m);
+	for (size_t s = 0; s < fs.kind.size(); s++)
+	{
+		if (fs.kind[s] == kConstantSlot) continue;
+		const bool kept = fs.kind[s] == kKeptSlot;
+		const auto& v = kept ? program_.kept()[fs.index[s]] : program_.elim()[fs.index[s]];
+		const int offset = kept ? v.offset : program_.kept_dim() + v.offset;
+		using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+		jd += Eigen::Map<const RowMajor>(evaluator_.jacobian(f, static_cast<int>(s)), fs.m, v.tangent) *
+			  delta.segment(offset, v.tangent);
+	}
+	const Eigen::Map<const Eigen::VectorXd> r(evaluator_.residual(f), fs.m);
+	return -r.dot(jd) - 0.5 * jd.squaredNorm();
+}
 }  // namespace swba::detail

@@ -40,6 +40,9 @@ class NormalEquations
 	double gradient_max_norm() const;
 	/** Predicted decrease of the linear model for step δ over [kept; eliminated]: −gᵀδ − ½ δᵀHδ. */
 	double model_decrease(const Eigen::VectorXd& delta) const;
+	/** Factor f's share of it: −r_fᵀJ_fδ − ½‖J_fδ‖² from the last linearisation (0 for a factor that
+	 * was not evaluable there). Summed over all factors it is model_decrease(δ). */
+	double factor_model_decrease(int f, const Eigen::VectorXd& delta) const;
 
 	/** @name The blocks, for the elimination.
 	 * @{ */

@@ -69,7 +69,8 @@ class LevenbergMarquardt
 	bool start();
 	bool iterate();
 	bool try_step(IterationSummary& it);
-	void accept_step(double new_cost, double relative_decrease);
+	StepOutcome judge_step(const detail::TrialEvaluation& trial, IterationSummary& it) const;
+	void accept_step(double new_cost, IterationSummary& it);
 	void reject_step(bool solved);
 	void check_gradient_and_cost();
 	void record(IterationSummary& it, Clock::time_point t_iter, bool accepted);
@@ -110,6 +111,7 @@ void LevenbergMarquardt::run()
 	}
 	summary_.final_cost = cost_;
 	summary_.num_dropped_factors = dropped_;
+	summary_.num_unconstrained_variables = ctx_.evaluator().count_unconstrained();
 	summary_.time_total_s = seconds_since(t_start_);
 }
 
@@ -117,7 +119,7 @@ void LevenbergMarquardt::run()
 double LevenbergMarquardt::evaluate_with_jacobians()
 {
 	const auto t0 = Clock::now();
-	const double cost = ctx_.evaluator().evaluate(true, &dropped_);
+	const double cost = ctx_.evaluator().linearize(&dropped_);
 	summary_.time_evaluation_s += seconds_since(t0);
 	return cost;
 }
@@ -183,6 +185,7 @@ bool LevenbergMarquardt::iterate()
 													   options_.max_lm_diagonal, delta_);
 	summary_.time_linear_solver_s += seconds_since(t0);
 	bool accepted = false;
+	it.outcome = StepOutcome::LinearSolveFailed;
 	if (solved)
 	{
 		it.step_norm = delta_.norm();
@@ -200,42 +203,57 @@ bool LevenbergMarquardt::iterate()
 	return true;
 }
 
-/** Moves to x ⊞ δ and keeps it if the cost decreased enough; otherwise restores x. A step that makes
- * an evaluable factor unevaluable (e.g. a landmark behind its anchor) is rejected, as Ceres rejects
- * steps whose cost cannot be evaluated. */
+/** Moves to x ⊞ δ and keeps it if judge_step accepts it; otherwise restores x (the linearisation at x
+ * is untouched by the trial). */
 bool LevenbergMarquardt::try_step(IterationSummary& it)
 {
 	auto& program = ctx_.program();
-	auto& evaluator = ctx_.evaluator();
-	const double predicted = ctx_.equations().model_decrease(delta_);
 	program.save_values();
 	program.apply_step(delta_);
 	const auto t0 = Clock::now();
-	int dropped_new = 0, newly_dropped = 0;
-	const double new_cost = evaluator.evaluate(false, &dropped_new, &newly_dropped);
+	const detail::TrialEvaluation trial = ctx_.evaluator().evaluate_trial();
 	summary_.time_evaluation_s += seconds_since(t0);
-	it.cost_change = cost_ - new_cost;
-	it.relative_decrease = predicted > 0 ? it.cost_change / predicted : 0.0;
-	if (std::isfinite(new_cost) && newly_dropped == 0 && predicted > 0 && it.relative_decrease > kMinRelativeDecrease)
+	it.outcome = judge_step(trial, it);
+	if (it.outcome == StepOutcome::Accepted)
 	{
-		accept_step(new_cost, it.relative_decrease);
+		accept_step(trial.cost, it);
 		return true;
 	}
 	program.restore_values();
-	if (newly_dropped > 0) evaluator.evaluate(false, &dropped_);  // restore the validity flags
 	return false;
 }
 
-void LevenbergMarquardt::accept_step(double new_cost, double relative_decrease)
+/** The step rule of solver.h: the gain ratio over the factors evaluable at both the current and the
+ * trial point. Fills the step's figures (domain changes, cost change, gain ratio) in `it`. */
+StepOutcome LevenbergMarquardt::judge_step(const detail::TrialEvaluation& trial, IterationSummary& it) const
+{
+	it.factors_left = static_cast<int>(trial.left.size());
+	it.factors_entered = trial.entered;
+	it.variables_stranded = trial.stranded;
+	double predicted = ctx_.equations().model_decrease(delta_);
+	for (int f : trial.left) predicted -= ctx_.equations().factor_model_decrease(f, delta_);
+	// With no domain change this is exactly cost_ − trial.cost.
+	it.cost_change = (cost_ - trial.left_cost) - (trial.cost - trial.entered_cost);
+	it.relative_decrease = predicted > 0 ? it.cost_change / predicted : 0.0;
+	if (!std::isfinite(trial.cost)) return StepOutcome::CostNotFinite;
+	if (!(predicted > 0)) return StepOutcome::NoPredictedDecrease;
+	if (!(it.cost_change > 0)) return StepOutcome::CostRose;
+	if (!(it.relative_decrease > kMinRelativeDecrease)) return StepOutcome::SmallGainRatio;
+	return StepOutcome::Accepted;
+}
+
+/** Moves on to the trial point; the trust region follows Nielsen's update only when the step changed
+ * no factor's evaluability (solver.h). */
+void LevenbergMarquardt::accept_step(double new_cost, IterationSummary& it)
 {
 	const double old_cost = cost_;
 	cost_ = new_cost;
-	strategy_.step_accepted(relative_decrease);
+	if (it.factors_left == 0 && it.factors_entered == 0) strategy_.step_accepted(it.relative_decrease);
 	evaluate_with_jacobians();  // the cost stays that of the trial evaluation
 	assemble();
 	summary_.successful_steps++;
 	consecutive_failures_ = 0;
-	if (std::abs(old_cost - new_cost) <= options_.function_tolerance * old_cost)
+	if (std::abs(it.cost_change) <= options_.function_tolerance * old_cost)
 		finish(TerminationType::Convergence, "function tolerance reached");
 	else
 		check_gradient_and_cost();

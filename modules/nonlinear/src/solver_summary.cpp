@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <sstream>
+#include <string>
 
 namespace swba
 {
@@ -19,6 +20,27 @@ const char* to_string(TerminationType t)
 	}
 	return "?";
 }
+
+/** "" or "  (rejected: <why>; <domain changes>)" / "  (<domain changes>)" for an accepted step. */
+std::string step_note(const IterationSummary& it)
+{
+	std::string note;
+	if (it.iteration > 0 && !it.step_accepted)
+	{
+		note = "rejected: ";
+		note += enum_name(it.outcome);
+	}
+	std::string domain;
+	if (it.factors_left > 0)
+		domain = std::to_string(it.factors_left) + (it.factors_left == 1 ? " factor" : " factors") + " left their domain";
+	if (it.factors_entered > 0)
+		domain += (domain.empty() ? "" : ", ") + std::to_string(it.factors_entered) + " entered";
+	if (it.variables_stranded > 0)
+		domain += "; " + std::to_string(it.variables_stranded) +
+				  (it.variables_stranded == 1 ? " variable lost its last factor" : " variables lost their last factor");
+	if (!domain.empty()) note += (note.empty() ? "" : "; ") + domain;
+	return note.empty() ? "" : "  (" + note + ")";
+}
 }  // namespace
 
 std::string iteration_log_header()
@@ -29,11 +51,10 @@ std::string iteration_log_header()
 std::string format_iteration(const IterationSummary& it)
 {
 	char buf[200];
-	std::snprintf(buf, sizeof(buf), "%4d %13.6e %12.2e %11.2e %9.2e %10.2e %10.2e %10.2e %11.2e%s", it.iteration,
+	std::snprintf(buf, sizeof(buf), "%4d %13.6e %12.2e %11.2e %9.2e %10.2e %10.2e %10.2e %11.2e", it.iteration,
 				  it.cost, it.cost_change, it.gradient_max_norm, it.step_norm, it.relative_decrease,
-				  it.trust_region_radius, it.iteration_time_s, it.cumulative_time_s,
-				  it.iteration > 0 && !it.step_accepted ? "  (rejected)" : "");
-	return buf;
+				  it.trust_region_radius, it.iteration_time_s, it.cumulative_time_s);
+	return buf + step_note(it);
 }
 
 std::string Summary::brief_report() const
@@ -56,6 +77,12 @@ std::string Summary::full_report() const
 	std::snprintf(buf, sizeof(buf), "%-30s %d (%d dropped at the solution)\n", "Factors", num_factors,
 				  num_dropped_factors);
 	os << buf;
+	if (num_unconstrained_variables > 0)
+	{
+		std::snprintf(buf, sizeof(buf), "%-30s %d (no evaluable factor at the solution)\n", "Unconstrained variables",
+					  num_unconstrained_variables);
+		os << buf;
+	}
 	std::snprintf(buf, sizeof(buf), "%-30s %s (reduced dimension %d)\n", "Linear solver",
 				  to_string(linear_solver_used).c_str(), reduced_dim);
 	os << buf;

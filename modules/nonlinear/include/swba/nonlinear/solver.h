@@ -1,7 +1,34 @@
 /** \file solver.h
  * Levenberg-Marquardt over a Problem: block-sparse normal equations, Schur complement of the
  * eliminable group, reduced system by dense LDLT or CHOLMOD (supernodal), Nielsen's damping update.
- * Options and Summary follow Ceres's conventions (cost = ½Σρ(‖W r‖²)). */
+ * Options and Summary follow Ceres's conventions (cost = ½Σρ(‖W r‖²)).
+ *
+ * Factors that cannot be evaluated. A factor whose evaluate() returns false (or a non-finite
+ * residual) at the current values is dropped from that linearisation and counted; the cost is the
+ * sum over the evaluable factors. The evaluable set can therefore change along a step: a factor may
+ * leave its domain (a photometric patch that leaves its image, a point that passes behind one camera)
+ * or enter it. Comparing the two totals would credit a step with the whole cost of every factor it
+ * pushes out of its domain (and charge it for every factor it brings in), so a step is judged like for
+ * like instead (no credit for leaving, no charge for entering):
+ *  - the gain ratio is ρ = actual / predicted decrease, both summed over the factors evaluable at
+ *    both points: the actual decrease leaves out the factors that left or entered, the model's
+ *    predicted decrease leaves out the share of the factors that left (those that entered have no
+ *    linear model at x). A step is accepted when ρ > 1e-3, whatever the domain changes; with none,
+ *    this is the usual ratio of the two totals, bit for bit;
+ *  - an accepted step that changed the evaluable set keeps the trust region radius: the model was
+ *    verified on part of the factors only, so Nielsen's enlargement is not earned, and near domain
+ *    boundaries the steps do not grow. Steps with no domain change update it as usual;
+ *  - nothing is dropped silently: every row of the iteration log says why a step was rejected
+ *    (IterationSummary::outcome) and how many factors left or entered their domain and how many
+ *    variables lost their last evaluable factor (factors_left, factors_entered, variables_stranded);
+ *    Summary::num_unconstrained_variables counts the variables without an evaluable factor at the
+ *    solution. Such a variable stays where the step left it: with no evaluable factor its gradient
+ *    and its coupling are zero, so it does not move until one of its factors becomes evaluable
+ *    again through the factor's other variables (a camera that turns back towards the point).
+ * Ceres instead rejects every step at which a residual block cannot be evaluated. Here that rule
+ * rejected good steps (ρ ≈ 1.2) whenever one of thousands of photometric patches crossed an image
+ * border, and kept rejecting while a weakly constrained point's step (large under Marquardt scaling for
+ * any radius) took all its patches out; doc/directba.md has the measurements. */
 #pragma once
 
 #include <swba/core/ini.h>
@@ -85,16 +112,42 @@ enum class TerminationType
 	UserCost         ///< stop_at_cost reached
 };
 
+/** What became of an LM step. */
+enum class StepOutcome
+{
+	Accepted,
+	LinearSolveFailed,    ///< the damped system could not be factorised
+	CostNotFinite,        ///< the cost at the trial point is not finite
+	NoPredictedDecrease,  ///< the linear model predicts no decrease over the comparable factors
+	CostRose,             ///< the cost of the comparable factors did not decrease
+	SmallGainRatio        ///< it decreased by less than 1e-3 of the predicted decrease
+};
+
+/** Every step outcome with its name, as the iteration log prints it. */
+constexpr std::array<EnumName<StepOutcome>, 6> enum_names(StepOutcome)
+{
+	return {{{StepOutcome::Accepted, "accepted"},
+			 {StepOutcome::LinearSolveFailed, "linear solve failed"},
+			 {StepOutcome::CostNotFinite, "cost not finite"},
+			 {StepOutcome::NoPredictedDecrease, "no predicted decrease"},
+			 {StepOutcome::CostRose, "cost rose"},
+			 {StepOutcome::SmallGainRatio, "gain ratio below 1e-3"}}};
+}
+
 struct IterationSummary
 {
 	int iteration = 0;
-	double cost = 0;
-	double cost_change = 0;
+	double cost = 0;               ///< cost after the iteration (over the factors evaluable there)
+	double cost_change = 0;        ///< actual decrease over the factors evaluable before and after the step
 	double gradient_max_norm = 0;
 	double step_norm = 0;
-	double relative_decrease = 0;  ///< ρ, gain ratio
+	double relative_decrease = 0;  ///< ρ, gain ratio (actual / predicted decrease, like for like)
 	double trust_region_radius = 0;
 	bool step_accepted = false;
+	StepOutcome outcome = StepOutcome::Accepted;
+	int factors_left = 0;          ///< factors evaluable before the step and not at the trial point
+	int factors_entered = 0;       ///< factors evaluable at the trial point and not before
+	int variables_stranded = 0;    ///< variables with no evaluable factor left at the trial point
 	double iteration_time_s = 0;
 	double cumulative_time_s = 0;
 };
@@ -113,6 +166,7 @@ struct Summary
 	int num_constant_variables = 0;
 	int num_factors = 0;
 	int num_dropped_factors = 0;    ///< factors not evaluable at the final values
+	int num_unconstrained_variables = 0;  ///< non-constant variables with no evaluable factor at the final values
 	int reduced_dim = 0;            ///< size of the system the Cholesky factorizes
 	LinearSolverType linear_solver_used = LinearSolverType::Auto;
 	double time_evaluation_s = 0;   ///< residuals + Jacobians
