@@ -3,6 +3,8 @@
 #include <swba/factors/between_pose.h>
 #include <swba/factors/pose_prior.h>
 
+#include <Eigen/LU>
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -30,7 +32,11 @@ smoother::FixedLagSmootherOptions smoother_options(const SlidingWindowOptions& o
 }  // namespace
 
 RangeBearingGraph::RangeBearingGraph(const SlidingWindowOptions& options)
-	: opt_(validated(options)), smoother_(smoother_options(opt_))
+	: opt_(validated(options)),
+	  smoother_(smoother_options(opt_)),
+	  loss_(opt_.reading_loss()),
+	  gate_threshold_(opt_.gate_threshold()),
+	  gate_on_entry_(opt_.gate_readings)
 {
 	Problem& problem = smoother_.problem();
 	const VariableId v0 = problem.add_pose(mrpt::poses::CPose3D());
@@ -56,19 +62,8 @@ bool RangeBearingGraph::is_world_point(VariableId v) const
 
 std::map<std::int32_t, Eigen::Vector3d> RangeBearingGraph::landmark_positions() const
 {
-	const Problem& problem = smoother_.problem();
 	std::map<std::int32_t, Eigen::Vector3d> out;
-	for (const auto& [id, lm] : landmarks_)
-	{
-		const Eigen::Vector3d x = Eigen::Map<const Eigen::Vector3d>(problem.value(lm.var));
-		if (opt_.landmarks == LandmarkParameterization::Xyz || lm.world_xyz)
-			out[id] = x;
-		else
-		{
-			const auto& a = poses_[lm.anchor_step];
-			out[id] = inverse_depth_to_world(problem.value(a.var), a.sensor, x);
-		}
-	}
+	for (const auto& [id, lm] : landmarks_) out[id] = world_position(lm);
 	return out;
 }
 
@@ -93,7 +88,7 @@ FactorId RangeBearingGraph::add_observation_factor(const Landmark& lm, const Obs
 		vars = {poses_[lm.anchor_step].var, P.var, lm.var};
 	}
 	f->set_information(o.sigma.cwiseInverse().cwiseAbs2().asDiagonal().toDenseMatrix());
-	return smoother_.add_factor(f, vars);
+	return smoother_.add_factor(f, vars, loss_);
 }
 
 Landmark& RangeBearingGraph::add_landmark(std::int32_t id, const Observation& o)
@@ -127,25 +122,39 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 	step_of_[vnew] = k;
 	smoother_.add_state(step.time(), vnew);
 	auto odo = std::make_shared<BetweenPoseFactor>(step.odometry.mean);
-	odo->set_information(io::odometry_information(step.odometry, opt_.odometry));
+	const Eigen::Matrix<double, 6, 6> odo_info = io::odometry_information(step.odometry, opt_.odometry);
+	odo->set_information(odo_info);
 	smoother_.add_factor(odo, {vprev, vnew});
 	if (step.readings.empty()) return;
+	if (gate_on_entry_) newest_pose_cov_ = odo_info.inverse();
 	const Eigen::Vector3d sigma = opt_.sensor.resolve(step);
 	for (const auto& rd : step.readings)
 	{
 		Observation o{k, {rd.range, rd.yaw, rd.pitch}, sigma, -1};
-		auto it = landmarks_.find(rd.landmark_id);
-		Landmark& lm = it == landmarks_.end() ? add_landmark(rd.landmark_id, o) : it->second;
-		o.factor = add_observation_factor(lm, o);
-		lm.obs.push_back(o);
 		sum.readings++;
+		counts_.readings++;
+		if (gate_on_entry_)
+		{
+			admit_reading(rd.landmark_id, o, sum);
+			continue;
+		}
+		auto it = landmarks_.find(rd.landmark_id);
+		admit(it == landmarks_.end() ? add_landmark(rd.landmark_id, o) : it->second, o);
 	}
+}
+
+void RangeBearingGraph::admit(Landmark& lm, Observation o)
+{
+	o.factor = add_observation_factor(lm, o);
+	lm.obs.push_back(o);
 }
 
 bool RangeBearingGraph::forget_landmark(VariableId v)
 {
 	auto it = landmark_of_var_.find(v);
 	if (it == landmark_of_var_.end()) return false;
+	const std::size_t held = landmarks_.at(it->second).held.size();
+	counts_.excluded += held;
 	landmarks_.erase(it->second);
 	landmark_of_var_.erase(it);
 	return true;

@@ -35,6 +35,8 @@ struct Landmark
 	 * was switched to world XYZ (a parameterisation no later marginalisation has to change). */
 	bool world_xyz = false;
 	std::vector<Observation> obs;  ///< observations whose factors are still in the problem
+	/** Readings held out by the χ² gate whose pose is still in the window (no factor). */
+	std::vector<Observation> held;
 };
 
 struct PoseRecord
@@ -56,9 +58,35 @@ class RangeBearingGraph
 	const smoother::FixedLagSmoother& smoother() const { return smoother_; }
 
 	/** Adds the step's pose (dead reckoning from the newest pose), its odometry factor and one factor
-	 * per reading (a new landmark initialised from its first reading); counts readings in `sum`.
-	 * Throws std::invalid_argument on a step without odometry or with a non-positive sensor noise. */
+	 * per reading (a new landmark initialised from its first reading); counts readings in `sum`. With
+	 * gate_on_entry() each reading passes admit_reading() first. Throws std::invalid_argument on a step
+	 * without odometry or with a non-positive sensor noise. */
 	void add_step(const io::RawlogStep& step, StepSummary& sum);
+
+	/** Whether add_step gates readings on arrival (the window: options().gate_readings). The batch
+	 * turns it off and gates after each solve with regate_all(). */
+	bool gate_on_entry() const { return gate_on_entry_; }
+	void set_gate_on_entry(bool on) { gate_on_entry_ = on; }
+	/** After a solve: the held readings that now pass the gate enter the window (counted in
+	 * sum.readmitted; their factors act from the next solve). */
+	void readmit_held(StepSummary& sum);
+	/** Before pose step `k` is marginalised: its held readings and unconfirmed first readings are
+	 * dropped for good (counted). */
+	void expire_readings_at(std::size_t k);
+	/** Batch: re-tests every reading against the current estimate; readings outside the gate lose their
+	 * factor, held ones inside it get one back (a landmark keeps at least its best-fitting reading).
+	 * Returns whether the admitted set changed. */
+	bool regate_all();
+	/** Rebuilds every admitted reading's factor with robust loss `loss` (null: least squares). */
+	void set_reading_loss(std::shared_ptr<const LossFunction> loss);
+	/** Readings among `factors` whose robust-loss weight ρ'(‖r‖²) is < 1 at the current values. */
+	int count_down_weighted(const std::set<FactorId>& factors) const;
+	/** The reading factors of pose step `k` and of the landmarks `leaving` (what marginalising k takes). */
+	std::set<FactorId> reading_factors_leaving(std::size_t k, const std::set<VariableId>& leaving) const;
+	/** Counts so far (excluded: readings dropped for good; call finish_counts() at the end). */
+	const ReadingCounts& counts() const { return counts_; }
+	/** Counts the readings still held or unconfirmed as excluded (the run is over). */
+	void finish_counts();
 
 	/** Every pose ever created, by step (0 = initial). */
 	const std::vector<PoseRecord>& poses() const { return poses_; }
@@ -88,6 +116,16 @@ class RangeBearingGraph
 	void convert_to_world_xyz(Landmark& lm);
 
    private:
+	/** The χ² gate step of a reading on arrival (gate_on_entry): a reading of a known landmark enters
+	 * or is held; the first reading of a landmark waits for a consistent second one. */
+	void admit_reading(std::int32_t id, const Observation& o, StepSummary& sum);
+	/** Squared Mahalanobis distance of `o`'s innovation against landmark `lm` at the current estimate,
+	 * with its pose's extra covariance `pose_cov` (null: none). */
+	double gate_distance(const Landmark& lm, const Observation& o, const Eigen::Matrix<double, 6, 6>* pose_cov) const;
+	/** World XYZ of landmark `lm` at the current estimate. */
+	Eigen::Vector3d world_position(const Landmark& lm) const;
+	/** Adds the factor of `o` to `lm` and records it as admitted. */
+	void admit(Landmark& lm, Observation o);
 	/** Adds the landmark of a first reading, initialised from it at pose step k. */
 	Landmark& add_landmark(std::int32_t id, const Observation& o);
 	/** Builds the factor of observation `o` of landmark `lm` (given its current anchor). */
@@ -103,5 +141,13 @@ class RangeBearingGraph
 	std::map<std::int32_t, Landmark> landmarks_;
 	std::map<VariableId, std::int32_t> landmark_of_var_;
 	mrpt::poses::CPose3D last_sensor_;
+	std::shared_ptr<const LossFunction> loss_;
+	double gate_threshold_;
+	bool gate_on_entry_;
+	/** First readings of landmarks not yet in the graph, waiting for a consistent second reading. */
+	std::map<std::int32_t, std::vector<Observation>> unconfirmed_;
+	/** Odometry covariance of the newest pose (relative to the previous one), for the gate. */
+	Eigen::Matrix<double, 6, 6> newest_pose_cov_ = Eigen::Matrix<double, 6, 6>::Zero();
+	ReadingCounts counts_;
 };
 }  // namespace swba::estimators::detail
