@@ -102,15 +102,12 @@ int run(int argc, char** argv)
 }
 }  // namespace
 
-int main(int argc, char** argv)
+int main(int argc, char** argv) try
 {
-	try
-	{
-		return run(argc, argv);
-	}
-	catch (const std::exception& e)
-	{
-		std::cerr << "make_outlier_rawlog: " << e.what() << "\n";
-		return 1;
-	}
+	return run(argc, argv);
+}
+catch (const std::exception& e)
+{
+	std::cerr << "make_outlier_rawlog: " << e.what() << "\n";
+	return 1;
 }

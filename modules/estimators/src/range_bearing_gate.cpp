@@ -205,9 +205,7 @@ int RangeBearingGraph::count_down_weighted(const std::set<FactorId>& factors) co
 		for (VariableId v : fe.variables) x.push_back(problem.value(v));
 		Eigen::VectorXd r(fe.factor->residual_dim());
 		if (!fe.factor->evaluate_whitened(x.data(), r.data(), nullptr)) continue;
-		double rho[3];
-		fe.loss->evaluate(r.squaredNorm(), rho);
-		if (rho[1] < 1.0) n++;
+		if (r.squaredNorm() > robust_scale_sq_) n++;
 	}
 	return n;
 }

@@ -1,5 +1,6 @@
 #include "range_bearing_graph.h"
 
+#include <swba/core/chi2.h>
 #include <swba/factors/between_pose.h>
 #include <swba/factors/pose_prior.h>
 
@@ -35,6 +36,7 @@ RangeBearingGraph::RangeBearingGraph(const SlidingWindowOptions& options)
 	: opt_(validated(options)),
 	  smoother_(smoother_options(opt_)),
 	  loss_(opt_.reading_loss()),
+	  robust_scale_sq_(chi2_quantile(opt_.robust_probability, 3)),
 	  gate_threshold_(opt_.gate_threshold()),
 	  gate_on_entry_(opt_.gate_readings)
 {

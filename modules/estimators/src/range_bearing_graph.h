@@ -79,7 +79,9 @@ class RangeBearingGraph
 	bool regate_all();
 	/** Rebuilds every admitted reading's factor with robust loss `loss` (null: least squares). */
 	void set_reading_loss(std::shared_ptr<const LossFunction> loss);
-	/** Readings among `factors` whose robust-loss weight ρ'(‖r‖²) is < 1 at the current values. */
+	/** Readings among `factors` with a robust loss whose whitened residual lies beyond the loss's scale
+	 * a (‖r‖² > a² = χ²₃(robust_probability)) at the current values: Huber's weight is < 1 there and
+	 * Cauchy's < 1/2 (Cauchy's weight is below 1 for every non-zero residual, so "< 1" would count all). */
 	int count_down_weighted(const std::set<FactorId>& factors) const;
 	/** The reading factors of pose step `k` and of the landmarks `leaving` (what marginalising k takes). */
 	std::set<FactorId> reading_factors_leaving(std::size_t k, const std::set<VariableId>& leaving) const;
@@ -142,6 +144,7 @@ class RangeBearingGraph
 	std::map<VariableId, std::int32_t> landmark_of_var_;
 	mrpt::poses::CPose3D last_sensor_;
 	std::shared_ptr<const LossFunction> loss_;
+	double robust_scale_sq_;
 	double gate_threshold_;
 	bool gate_on_entry_;
 	/** First readings of landmarks not yet in the graph, waiting for a consistent second reading. */

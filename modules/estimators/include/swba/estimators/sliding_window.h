@@ -155,7 +155,7 @@ struct StepSummary
 	int prior_only_landmarks = 0;   ///< landmarks held out of this step's LM solve (eliminate_prior_only_landmarks)
 	int gated = 0;                  ///< readings held out by the χ² gate on arrival this step
 	int readmitted = 0;             ///< held readings that passed the gate after this step's solve and entered
-	int down_weighted = 0;          ///< readings that entered the marginal prior this step with robust weight < 1
+	int down_weighted = 0;          ///< readings that entered the marginal prior this step beyond the loss's scale
 };
 
 /** What happened to the bearing-range readings of a run (totals; see SlidingWindowOptions::gate_readings). */
@@ -171,8 +171,8 @@ struct ReadingCounts
 	std::size_t unconfirmed = 0;
 	/** Readings never used by the estimate: gated and not re-admitted, plus the unconfirmed. */
 	std::size_t excluded = 0;
-	/** Window: readings that entered the marginal prior with a robust-loss weight < 1; batch: readings
-	 * with weight < 1 at the solution. */
+	/** Readings whose whitened residual lay beyond the robust loss's scale (Huber weight < 1, Cauchy
+	 * weight < 1/2) when they entered the marginal prior (window) / at the solution (batch). */
 	std::size_t down_weighted = 0;
 };
 
