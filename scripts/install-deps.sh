@@ -2,6 +2,7 @@
 # Installs the Debian packages swba needs, only those missing (idempotent, non-interactive).
 set -euo pipefail
 pkgs=(cmake g++ make libeigen3-dev libsuitesparse-dev libgtest-dev
+	libboost-math-dev  # header-only: Boost.Math's chi-square distribution (gates, loss scales)
 	libmrpt-slam-dev libmrpt-tclap-dev mrpt-common
 	libmrpt-graphslam-dev  # optional: MRPT graph-SLAM peer of the pose-graph benchmark
 	libceres-dev     # optional: benchmark peer only

@@ -59,6 +59,19 @@ struct RunCommandLine
 	TCLAP::ValueArg<double> std_pitch{"", "sensor-std-pitch-deg",
 									  "pitch noise (deg) for every estimator. (Default: the observation's own)", false, 0,
 									  "D"};
+	TCLAP::ValueArg<std::string> gate{"", "gate",
+									  "chi-square gate of the bearing-range readings (doc/outliers.md): on or off. "
+									  "(Default: on)",
+									  false, "", "on|off"};
+	TCLAP::ValueArg<double> gate_probability{
+		"", "gate-probability", "share of correct readings the gate passes, in (0, 1). (Default: 0.999)", false, 0, "P"};
+	TCLAP::ValueArg<std::string> robust_loss{
+		"", "robust-loss", "robust loss of the range-bearing factors, window and batch: none, huber or cauchy. (Default: none)",
+		false, "", "L"};
+	TCLAP::ValueArg<double> robust_probability{
+		"", "robust-probability",
+		"robust-loss scale = sqrt of the chi-square (3 DoF) quantile at this probability, in (0, 1). (Default: 0.95)",
+		false, 0, "P"};
 	TCLAP::ValueArg<int> max_steps{"", "max-steps", "process at most N steps (0 = all). (Default: 0)", false, 0, "N"};
 	TCLAP::ValueArg<int> threads{"", "threads", "solver threads. (Default: 1)", false, 1, "N"};
 	TCLAP::SwitchArg no_plots{"", "no-plots", "do not write gnuplot plots"};
@@ -69,7 +82,8 @@ struct RunCommandLine
 		cmd.add(rawlog);
 		// TCLAP lists options in reverse order of addition.
 		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{
-				 &no_progress, &no_plots, &threads, &max_steps, &std_pitch, &std_yaw, &std_range, &gauge, &landmarks,
+				 &no_progress, &no_plots, &threads, &max_steps, &robust_probability, &robust_loss, &gate_probability, &gate,
+				 &std_pitch, &std_yaw, &std_range, &gauge, &landmarks,
 				 &fej, &policy, &ekf_method, &config, &out, &causal, &no_batch, &no_ekf, &windows, &gt})
 			cmd.add(*a);
 	}
@@ -90,6 +104,7 @@ struct RunCommandLine
 		if (landmarks.isSet()) o.window.landmarks = estimators::parse_landmark_parameterization(landmarks.getValue());
 		if (gauge.isSet()) o.window.gauge = parse_gauge_mode(gauge.getValue());
 		apply_noise(o);
+		apply_outliers(o.window);
 		if (max_steps.isSet())
 		{
 			if (max_steps.getValue() < 0) throw UsageError("--max-steps must be >= 0");
@@ -102,6 +117,19 @@ struct RunCommandLine
 		}
 		if (no_plots.isSet()) o.plots = false;
 		if (no_progress.isSet()) o.progress = false;
+	}
+
+	/** The gate and the robust loss (checked by SlidingWindowOptions::validate, which names the option). */
+	void apply_outliers(estimators::SlidingWindowOptions& w)
+	{
+		if (gate.isSet())
+		{
+			if (gate.getValue() != "on" && gate.getValue() != "off") throw UsageError("--gate must be on or off");
+			w.gate_readings = gate.getValue() == "on";
+		}
+		if (gate_probability.isSet()) w.gate_probability = gate_probability.getValue();
+		if (robust_loss.isSet()) w.robust_loss = parse_enum<RobustLoss>(robust_loss.getValue(), "robust loss");
+		if (robust_probability.isSet()) w.robust_probability = robust_probability.getValue();
 	}
 
 	/** Sensor noise: degrees on the command line, radians inside. */

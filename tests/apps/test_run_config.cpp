@@ -37,7 +37,8 @@ std::string non_default_ini()
 	return "[run]\nrawlog = a.rawlog\nground_truth = a_gt.txt\nout_dir = elsewhere\nmax_steps = 7\n"
 		   "batch = false\nbatch_max_iterations = 3\ncausal = true\nplots = false\nprogress = false\n"
 		   "[window]\nsizes = 3,4\npolicy = both\nfej = off\nlandmarks = xyz\nmodel = 2d\ngauge = prior\ngauge_prior_weight = 5\n"
-		   "marginalization_threshold = 0.5\n"
+		   "marginalization_threshold = 0.5\ngate = false\ngate_probability = 0.5\nrobust_loss = cauchy\n"
+		   "robust_probability = 0.75\n"
 		   "[solver]\nmax_iterations = 4\nfunction_tolerance = 0.5\ngradient_tolerance = 0.25\n"
 		   "parameter_tolerance = 0.125\nlinear_solver = dense-normal\ndense_max_dim = 9\nthreads = 2\n"
 		   "[ekf]\nenabled = false\nmethods = kfIKF\nini_file = x.ini\n"
@@ -66,6 +67,11 @@ TEST(RunConfig, NonDefaultIniSetsEveryKey)
 	EXPECT_NEAR(o.window.sensor.std_yaw, 2.0 * M_PI / 180.0, 1e-15);
 	EXPECT_DOUBLE_EQ(o.window.sensor.std_range, 0.5);
 	EXPECT_DOUBLE_EQ(o.window.odometry.min_sigma_rotation, 0.25);
+	EXPECT_EQ(o.window.model, swba::estimators::PoseModel::Planar);
+	EXPECT_FALSE(o.window.gate_readings);
+	EXPECT_DOUBLE_EQ(o.window.gate_probability, 0.5);
+	EXPECT_EQ(o.window.robust_loss, swba::RobustLoss::Cauchy);
+	EXPECT_DOUBLE_EQ(o.window.robust_probability, 0.75);
 }
 
 TEST(RunConfig, DefaultIniHoldsTheBuiltInDefaults)
@@ -137,6 +143,8 @@ TEST(RunConfig, BadValuesNameTheKey)
 			 {"[sensor]\nstd_range_m = -1\n", "[sensor] std_range_m: '-1' must be >= 0"},
 			 {"[sensor]\nstd_yaw_deg = nan\n", "[sensor] std_yaw_deg: 'nan' is not finite"},
 			 {"[solver]\nlinear_solver = magic\n", "[solver] linear_solver:"},
+			 {"[window]\ngate_probability = 1\n", "[window] gate_probability: '1' must be in (0, 1)"},
+			 {"[window]\nrobust_loss = tukey\n", "[window] robust_loss: unknown robust loss 'tukey'"},
 		 })
 	{
 		const std::string msg = load_error(c.ini);

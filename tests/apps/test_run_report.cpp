@@ -451,3 +451,28 @@ TEST(RunApeCsv, HeaderAndRows)
 	}
 	EXPECT_EQ(n, rep.rows.size());
 }
+
+TEST(RunSummaryJson, ReadingCountsPerEstimator)
+{
+	RunReport rep = sample_report();
+	swba::estimators::ReadingCounts c;
+	c.readings = 100;
+	c.gated = 7;
+	c.readmitted = 2;
+	c.unconfirmed = 1;
+	c.excluded = 6;
+	c.down_weighted = 3;
+	rep.rows[1].reading_counts = c;
+	const Json j = parse_json(swba::apps::format_summary_json(rep));
+	const Json& with = j["estimators"].arr[1];
+	ASSERT_EQ(with["readings"].type, Json::Object);
+	EXPECT_EQ(with["readings"].keys,
+			  (std::vector<std::string>{"processed", "gated", "readmitted", "unconfirmed", "excluded", "down_weighted"}));
+	EXPECT_EQ(with["readings"]["processed"].num, 100.0);
+	EXPECT_EQ(with["readings"]["gated"].num, 7.0);
+	EXPECT_EQ(with["readings"]["readmitted"].num, 2.0);
+	EXPECT_EQ(with["readings"]["unconfirmed"].num, 1.0);
+	EXPECT_EQ(with["readings"]["excluded"].num, 6.0);
+	EXPECT_EQ(with["readings"]["down_weighted"].num, 3.0);
+	EXPECT_EQ(j["estimators"].arr[0]["readings"].type, Json::Null);
+}

@@ -4,6 +4,8 @@
 #include <swba/factors/planar.h>
 #include <swba/factors/pose_prior.h>
 
+#include <Eigen/LU>
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -46,7 +48,7 @@ std::shared_ptr<Factor> planar(std::shared_ptr<const Factor> f, std::vector<int>
 }  // namespace
 
 RangeBearingGraph::RangeBearingGraph(const SlidingWindowOptions& options)
-	: opt_(validated(options)), smoother_(smoother_options(opt_))
+	: opt_(validated(options)), smoother_(smoother_options(opt_)), gate_on_entry_(opt_.gate_readings)
 {
 	if (opt_.model != PoseModel::Auto) initialise(opt_.model);
 }
@@ -54,6 +56,9 @@ RangeBearingGraph::RangeBearingGraph(const SlidingWindowOptions& options)
 void RangeBearingGraph::initialise(PoseModel model)
 {
 	model_ = model;
+	loss_ = opt_.reading_loss(reading_dof());
+	robust_scale_sq_ = opt_.robust_scale_squared(reading_dof());
+	gate_threshold_ = opt_.gate_threshold(reading_dof());
 	const VariableId v0 = add_pose_variable(mrpt::poses::CPose3D());
 	poses_.push_back({0.0, v0, mrpt::poses::CPose3D()});
 	step_of_[v0] = 0;
@@ -93,19 +98,8 @@ bool RangeBearingGraph::is_world_point(VariableId v) const
 
 std::map<std::int32_t, Eigen::Vector3d> RangeBearingGraph::landmark_positions() const
 {
-	const Problem& problem = smoother_.problem();
 	std::map<std::int32_t, Eigen::Vector3d> out;
-	for (const auto& [id, lm] : landmarks_)
-	{
-		const Eigen::Vector3d x = Eigen::Map<const Eigen::Vector3d>(problem.value(lm.var));
-		if (opt_.landmarks == LandmarkParameterization::Xyz || lm.world_xyz)
-			out[id] = x;
-		else
-		{
-			const auto& a = poses_[lm.anchor_step];
-			out[id] = inverse_depth_to_world(problem.value(a.var), a.sensor, x);
-		}
-	}
+	for (const auto& [id, lm] : landmarks_) out[id] = world_position(lm);
 	return out;
 }
 
@@ -129,15 +123,15 @@ FactorId RangeBearingGraph::add_observation_factor(const Landmark& lm, const Obs
 		f = std::make_shared<RangeBearingInverseDepthFactor>(o.z, P.sensor, poses_[lm.anchor_step].sensor);
 		vars = {poses_[lm.anchor_step].var, P.var, lm.var};
 	}
-	if (model_ == PoseModel::Planar)
-	{
-		// Range and yaw only: a 2D sensor measures no pitch (its row is identically 0 on the plane).
-		f = planar(f, {0, 1}, {true, false});
-		f->set_information(o.sigma.head<2>().cwiseInverse().cwiseAbs2().asDiagonal().toDenseMatrix());
-	}
-	else
-		f->set_information(o.sigma.cwiseInverse().cwiseAbs2().asDiagonal().toDenseMatrix());
-	return smoother_.add_factor(f, vars);
+	return smoother_.add_factor(model_reading_factor(f, o), vars, loss_);
+}
+
+std::shared_ptr<Factor> RangeBearingGraph::model_reading_factor(std::shared_ptr<Factor> f, const Observation& o) const
+{
+	// Planar: range and yaw only, a 2D sensor measures no pitch (its row is identically 0 on the plane).
+	if (model_ == PoseModel::Planar) f = planar(f, {0, 1}, {true, false});
+	f->set_information(reading_sigma(o).cwiseInverse().cwiseAbs2().asDiagonal().toDenseMatrix());
+	return f;
 }
 
 Landmark& RangeBearingGraph::add_landmark(std::int32_t id, const Observation& o)
@@ -166,17 +160,20 @@ Landmark& RangeBearingGraph::add_landmark(std::int32_t id, const Observation& o)
 	return landmarks_.emplace(lm.id, std::move(lm)).first->second;
 }
 
-void RangeBearingGraph::add_odometry_factor(const io::RawlogStep& step, VariableId vprev, VariableId vnew)
+Eigen::MatrixXd RangeBearingGraph::add_odometry_factor(const io::RawlogStep& step, VariableId vprev, VariableId vnew)
 {
 	std::shared_ptr<Factor> odo = std::make_shared<BetweenPoseFactor>(step.odometry.mean);
+	Eigen::MatrixXd information;
 	if (model_ == PoseModel::Planar)
 	{
 		odo = planar(odo, planar_pose_coordinates(), {true, true});
-		odo->set_information(io::planar_odometry_information(step.odometry, opt_.odometry));
+		information = io::planar_odometry_information(step.odometry, opt_.odometry);
 	}
 	else
-		odo->set_information(io::odometry_information(step.odometry, opt_.odometry));
+		information = io::odometry_information(step.odometry, opt_.odometry);
+	odo->set_information(information);
 	smoother_.add_factor(odo, {vprev, vnew});
+	return information;
 }
 
 void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
@@ -194,8 +191,9 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 	const std::size_t k = poses_.size() - 1;
 	step_of_[vnew] = k;
 	smoother_.add_state(step.time(), vnew);
-	add_odometry_factor(step, vprev, vnew);
+	const Eigen::MatrixXd odo_info = add_odometry_factor(step, vprev, vnew);
 	if (step.readings.empty()) return;
+	if (gate_on_entry_) newest_pose_cov_ = odo_info.inverse();
 	Eigen::Vector3d sigma;
 	if (model_ == PoseModel::Planar)
 		sigma << opt_.sensor.resolve_range_yaw(step), 0.0;
@@ -204,18 +202,30 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 	for (const auto& rd : step.readings)
 	{
 		Observation o{k, {rd.range, rd.yaw, rd.pitch}, sigma, -1};
-		auto it = landmarks_.find(rd.landmark_id);
-		Landmark& lm = it == landmarks_.end() ? add_landmark(rd.landmark_id, o) : it->second;
-		o.factor = add_observation_factor(lm, o);
-		lm.obs.push_back(o);
 		sum.readings++;
+		counts_.readings++;
+		if (gate_on_entry_)
+		{
+			admit_reading(rd.landmark_id, o, sum);
+			continue;
+		}
+		auto it = landmarks_.find(rd.landmark_id);
+		admit(it == landmarks_.end() ? add_landmark(rd.landmark_id, o) : it->second, o);
 	}
+}
+
+void RangeBearingGraph::admit(Landmark& lm, Observation o)
+{
+	o.factor = add_observation_factor(lm, o);
+	lm.obs.push_back(o);
 }
 
 bool RangeBearingGraph::forget_landmark(VariableId v)
 {
 	auto it = landmark_of_var_.find(v);
 	if (it == landmark_of_var_.end()) return false;
+	const std::size_t held = landmarks_.at(it->second).held.size();
+	counts_.excluded += held;
 	landmarks_.erase(it->second);
 	landmark_of_var_.erase(it);
 	return true;

@@ -39,6 +39,8 @@ struct Landmark
 	 * was switched to world XYZ (a parameterisation no later marginalisation has to change). */
 	bool world_xyz = false;
 	std::vector<Observation> obs;  ///< observations whose factors are still in the problem
+	/** Readings held out by the χ² gate whose pose is still in the window (no factor). */
+	std::vector<Observation> held;
 };
 
 struct PoseRecord
@@ -58,6 +60,8 @@ class RangeBearingGraph
 
 	/** The model chosen (Auto before the first step). */
 	PoseModel model() const { return model_; }
+	/** Rows of a reading in the model chosen (estimators::reading_dof; 3 before the first step). */
+	int reading_dof() const { return estimators::reading_dof(model_); }
 	/** The pose of variable `var` (an SE(3) or planar pose variable). */
 	mrpt::poses::CPose3D pose(VariableId var) const;
 
@@ -66,10 +70,38 @@ class RangeBearingGraph
 	const smoother::FixedLagSmoother& smoother() const { return smoother_; }
 
 	/** Adds the step's pose (dead reckoning from the newest pose), its odometry factor and one factor
-	 * per reading (a new landmark initialised from its first reading); counts readings in `sum`.
-	 * Throws std::invalid_argument on a step without odometry or with a non-positive sensor noise, and
-	 * in the planar model on a step that is not planar (3D odometry, a reading with pitch). */
+	 * per reading (a new landmark initialised from its first reading); counts readings in `sum`. With
+	 * gate_on_entry() each reading passes admit_reading() first. Throws std::invalid_argument on a step
+	 * without odometry or with a non-positive sensor noise, and in the planar model on a step that is
+	 * not planar (3D odometry, a reading with pitch). */
 	void add_step(const io::RawlogStep& step, StepSummary& sum);
+
+	/** Whether add_step gates readings on arrival (the window: options().gate_readings). The batch
+	 * turns it off and gates after each solve with regate_all(). */
+	bool gate_on_entry() const { return gate_on_entry_; }
+	void set_gate_on_entry(bool on) { gate_on_entry_ = on; }
+	/** After a solve: the held readings that now pass the gate enter the window (counted in
+	 * sum.readmitted; their factors act from the next solve). */
+	void readmit_held(StepSummary& sum);
+	/** Before pose step `k` is marginalised: its held readings and unconfirmed first readings are
+	 * dropped for good (counted). */
+	void expire_readings_at(std::size_t k);
+	/** Batch: re-tests every reading against the current estimate; readings outside the gate lose their
+	 * factor, held ones inside it get one back (a landmark keeps at least its best-fitting reading).
+	 * Returns whether the admitted set changed. */
+	bool regate_all();
+	/** Rebuilds every admitted reading's factor with robust loss `loss` (null: least squares). */
+	void set_reading_loss(std::shared_ptr<const LossFunction> loss);
+	/** Readings among `factors` with a robust loss whose whitened residual lies beyond the loss's scale
+	 * a (‖r‖² > a² = χ²_dof(robust_probability), dof = reading_dof()) at the current values: Huber's weight is < 1 there and
+	 * Cauchy's < 1/2 (Cauchy's weight is below 1 for every non-zero residual, so "< 1" would count all). */
+	int count_down_weighted(const std::set<FactorId>& factors) const;
+	/** The reading factors of pose step `k` and of the landmarks `leaving` (what marginalising k takes). */
+	std::set<FactorId> reading_factors_leaving(std::size_t k, const std::set<VariableId>& leaving) const;
+	/** Counts so far (excluded: readings dropped for good; call finish_counts() at the end). */
+	const ReadingCounts& counts() const { return counts_; }
+	/** Counts the readings still held or unconfirmed as excluded (the run is over). */
+	void finish_counts();
 
 	/** Every pose ever created, by step (0 = initial). */
 	const std::vector<PoseRecord>& poses() const { return poses_; }
@@ -99,12 +131,34 @@ class RangeBearingGraph
 	void convert_to_world_xyz(Landmark& lm);
 
    private:
-	/** Fixes the model (Spatial or Planar) and adds the first pose and its gauge. */
+	/** Fixes the model (Spatial or Planar), the gate's and the loss's χ² bounds for its reading_dof,
+	 * and adds the first pose and its gauge. */
 	void initialise(PoseModel model);
 	/** A new pose variable (planar: projected on the plane). */
 	VariableId add_pose_variable(const mrpt::poses::CPose3D& pose);
-	/** Adds the odometry factor of `step` between `vprev` and `vnew`. */
-	void add_odometry_factor(const io::RawlogStep& step, VariableId vprev, VariableId vnew);
+	/** Adds the odometry factor of `step` between `vprev` and `vnew`; returns its information (6×6 on
+	 * the SE(3) tangent, planar: 3×3 on (ρx, ρy, ωz)), which the gate also uses. */
+	Eigen::MatrixXd add_odometry_factor(const io::RawlogStep& step, VariableId vprev, VariableId vnew);
+	/** Reading factor `f` (rows range, yaw, pitch) as the model takes it, with the information of its
+	 * rows' sensor noise: planar keeps rows (range, yaw) on pose (ρx, ρy, ωz) and landmark (x, y). */
+	std::shared_ptr<Factor> model_reading_factor(std::shared_ptr<Factor> f, const Observation& o) const;
+	/** The sensor noise of the rows the model keeps: (range, yaw, pitch), planar (range, yaw). */
+	Eigen::VectorXd reading_sigma(const Observation& o) const { return o.sigma.head(reading_dof()); }
+	/** The χ² gate step of a reading on arrival (gate_on_entry): a reading of a known landmark enters
+	 * or is held; the first reading of a landmark waits for a consistent second one. */
+	void admit_reading(std::int32_t id, const Observation& o, StepSummary& sum);
+	/** Squared Mahalanobis distance of reading `o` (taken at pose step o.pose_step) against the world
+	 * point `p`, whose estimate averages `n` readings, at the current estimate. Innovation covariance:
+	 * the sensor noise R, the point's R/n (an approximation that avoids a marginal covariance), and the
+	 * pose's `pose_cov` (on the pose variable's tangent; null: none) through ∂h/∂T. reading_dof rows. */
+	double innovation_distance(const Eigen::Vector3d& p, std::size_t n, const Observation& o,
+							   const Eigen::MatrixXd* pose_cov) const;
+	/** innovation_distance of `o` against landmark `lm`'s current estimate. */
+	double gate_distance(const Landmark& lm, const Observation& o, const Eigen::MatrixXd* pose_cov) const;
+	/** World XYZ of landmark `lm` at the current estimate. */
+	Eigen::Vector3d world_position(const Landmark& lm) const;
+	/** Adds the factor of `o` to `lm` and records it as admitted. */
+	void admit(Landmark& lm, Observation o);
 	/** Adds the landmark of a first reading, initialised from it at pose step k. */
 	Landmark& add_landmark(std::int32_t id, const Observation& o);
 	/** Builds the factor of observation `o` of landmark `lm` (given its current anchor). */
@@ -121,5 +175,15 @@ class RangeBearingGraph
 	std::map<std::int32_t, Landmark> landmarks_;
 	std::map<VariableId, std::int32_t> landmark_of_var_;
 	mrpt::poses::CPose3D last_sensor_;
+	std::shared_ptr<const LossFunction> loss_;  ///< of the reading factors (set with the model)
+	double robust_scale_sq_ = 0;                ///< χ²_dof(robust_probability) (set with the model)
+	double gate_threshold_ = 0;                 ///< χ²_dof(gate_probability) (set with the model)
+	bool gate_on_entry_;
+	/** First readings of landmarks not yet in the graph, waiting for a consistent second reading. */
+	std::map<std::int32_t, std::vector<Observation>> unconfirmed_;
+	/** Odometry covariance of the newest pose relative to the previous one, on the pose variable's
+	 * tangent (the inverse of its odometry factor's information), for the gate. */
+	Eigen::MatrixXd newest_pose_cov_;
+	ReadingCounts counts_;
 };
 }  // namespace swba::estimators::detail

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <set>
 #include <stdexcept>
 
@@ -45,6 +46,7 @@ struct SlidingWindowEstimator::Impl
 		sum.iterations = u.solver.iterations;
 		sum.initial_cost = u.solver.initial_cost;
 		sum.final_cost = u.solver.final_cost;
+		if (graph.gate_on_entry()) graph.readmit_held(sum);
 	}
 
 	/** The landmark policy at the oldest pose (step o) leaving: landmarks anchored there are
@@ -84,7 +86,10 @@ struct SlidingWindowEstimator::Impl
 	void marginalize_oldest(StepSummary& sum)
 	{
 		const smoother::TimedState oldest = smoother().states().front();
-		const std::set<VariableId> leaving = landmarks_leaving_with(graph.step_of(oldest.var), sum);
+		const std::size_t o = graph.step_of(oldest.var);
+		const std::set<VariableId> leaving = landmarks_leaving_with(o, sum);
+		sum.down_weighted = graph.count_down_weighted(graph.reading_factors_leaving(o, leaving));
+		graph.expire_readings_at(o);
 		lagged.push_back(oldest.time, graph.pose(oldest.var));
 		const std::set<FactorId> removed = smoother().marginalize_oldest(leaving);
 		graph.forget_observations(removed);
@@ -121,6 +126,7 @@ struct SlidingWindowEstimator::Impl
 		if (finished) return;
 		finished = true;
 		if (graph.poses().empty()) return;  // no step processed (model still undecided)
+		graph.finish_counts();
 		const VariableId initial = graph.poses().front().var;
 		for (const auto& s : smoother().states())
 			if (s.var != initial) lagged.push_back(s.time, graph.pose(s.var));
@@ -156,6 +162,12 @@ std::map<std::int32_t, Eigen::Vector3d> SlidingWindowEstimator::landmarks() cons
 const eval::Trajectory& SlidingWindowEstimator::online_trajectory() const { return impl_->online; }
 const eval::Trajectory& SlidingWindowEstimator::lagged_trajectory() const { return impl_->lagged; }
 const std::vector<StepSummary>& SlidingWindowEstimator::step_summaries() const { return impl_->summaries; }
+ReadingCounts SlidingWindowEstimator::reading_counts() const
+{
+	ReadingCounts c = impl_->graph.counts();
+	for (const auto& s : impl_->summaries) c.down_weighted += static_cast<std::size_t>(s.down_weighted);
+	return c;
+}
 const SlidingWindowOptions& SlidingWindowEstimator::options() const { return impl_->graph.options(); }
 
 Eigen::MatrixXd SlidingWindowEstimator::prior_information() const
@@ -211,6 +223,7 @@ BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& opti
 	SlidingWindowOptions o = options;
 	o.window_size = 0;
 	detail::RangeBearingGraph graph(o);
+	graph.set_gate_on_entry(false);  // dead reckoning over the whole run is no prediction to gate against
 	StepSummary unused;
 	for (const auto& s : rawlog.steps)
 	{
@@ -227,14 +240,37 @@ BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& opti
 	so.max_iterations = max_iterations;
 	so.function_tolerance = std::min(so.function_tolerance, 1e-12);
 	BatchResult r;
+	if (o.gate_readings)
+	{
+		// The first solve is robust (Cauchy at the gate's radius), so that the gate's first test sees an
+		// estimate the outliers have not dragged (least squares, or Huber's bounded but non-vanishing
+		// influence, left enough bias to gate good readings with 5 % outliers); then the options' own loss.
+		graph.set_reading_loss(make_loss(RobustLoss::Cauchy, std::sqrt(o.gate_threshold(graph.reading_dof()))));
+		graph.smoother().solve(so);
+		graph.set_reading_loss(o.reading_loss(graph.reading_dof()));
+		graph.regate_all();
+		r.rounds++;
+	}
 	r.summary = graph.smoother().solve(so);
+	constexpr int kMaxRounds = 6;
+	while (o.gate_readings && r.rounds < kMaxRounds && graph.regate_all())
+	{
+		r.summary = graph.smoother().solve(so);
+		r.rounds++;
+	}
+	r.counts = graph.counts();
+	std::set<FactorId> readings;
+	for (const auto& [id, lm] : graph.landmarks())
+		for (const auto& ob : lm.obs) readings.insert(ob.factor);
+	r.counts.down_weighted = static_cast<std::size_t>(graph.count_down_weighted(readings));
 	for (std::size_t k = 1; k < graph.poses().size(); k++)
 		r.trajectory.push_back(graph.poses()[k].time, graph.pose(graph.poses()[k].var));
 	r.seconds = seconds_since(t0);
 	return r;
 }
 
-eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const SlidingWindowOptions& options)
+eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const SlidingWindowOptions& options,
+										 ReadingCounts* counts)
 {
 	SlidingWindowOptions o = options;
 	o.window_size = 0;
@@ -250,6 +286,8 @@ eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const Sliding
 			throw StepError(s.index, e.what());
 		}
 	}
+	est.finish();
+	if (counts) *counts = est.reading_counts();
 	return est.online_trajectory();
 }
 }  // namespace swba::estimators

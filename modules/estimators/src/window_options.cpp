@@ -1,6 +1,8 @@
 // Options of the window: names of the landmark parameterisations and policies, defaults, validation.
 #include <swba/estimators/sliding_window.h>
 
+#include <swba/core/chi2.h>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -39,10 +41,33 @@ void SlidingWindowOptions::validate() const
 	if (!(gauge_prior_weight > 0)) throw std::invalid_argument("gauge prior weight must be > 0");
 	if (!(marginalization_threshold >= 0) || !(marginalization_threshold < 1))
 		throw std::invalid_argument("marginalisation threshold must be in [0, 1)");
+	if (!(gate_probability > 0 && gate_probability < 1))
+		throw std::invalid_argument("gate probability must be in (0, 1), got " + std::to_string(gate_probability));
+	if (!(robust_probability > 0 && robust_probability < 1))
+		throw std::invalid_argument("robust-loss probability must be in (0, 1), got " + std::to_string(robust_probability));
 	sensor.validate();
 	std::string why;
 	if (!solver.is_valid(&why)) throw std::invalid_argument("solver options: " + why);
 }
+
+double SlidingWindowOptions::gate_threshold(int dof) const { return chi2_quantile(gate_probability, dof); }
+
+double SlidingWindowOptions::robust_scale_squared(int dof) const { return chi2_quantile(robust_probability, dof); }
+
+std::shared_ptr<const LossFunction> SlidingWindowOptions::reading_loss(int dof) const
+{
+	return robust_loss == RobustLoss::None ? nullptr : make_loss(robust_loss, std::sqrt(robust_scale_squared(dof)));
+}
+
+namespace
+{
+double parse_probability(const std::string& v)
+{
+	const double p = ini::parse_double(v);
+	if (!(p > 0 && p < 1)) throw std::invalid_argument("'" + v + "' must be in (0, 1)");
+	return p;
+}
+}  // namespace
 
 IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& section)
 {
@@ -65,6 +90,16 @@ IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& 
 			 o.marginalization_threshold = d;
 		 },
 		 [](const O& o) { return format_double(o.marginalization_threshold); }},
+		{section, "gate", "bool", "chi-square gate of the bearing-range readings (doc/outliers.md)",
+		 [](const S& v, O& o) { o.gate_readings = parse_bool(v); }, [](const O& o) { return format_bool(o.gate_readings); }},
+		number_key<O>(section, "gate_probability", "probability in (0, 1)",
+					  "share of correct readings the gate passes (chi-square, 3 DoF in 6D, 2 in 2D)", &O::gate_probability,
+					  parse_probability),
+		enum_key<O, RobustLoss>(section, "robust_loss", "robust loss of the range-bearing factors (window and batch)",
+								"robust loss", [](auto& o) -> auto& { return o.robust_loss; }),
+		number_key<O>(section, "robust_probability", "probability in (0, 1)",
+					  "robust-loss scale: sqrt of the chi-square quantile at this probability (3 DoF in 6D, 2 in 2D)",
+					  &O::robust_probability, parse_probability),
 	};
 }
 }  // namespace swba::estimators

@@ -9,11 +9,12 @@ namespace swba::smoother
 {
 FixedLagSmoother::FixedLagSmoother(const FixedLagSmootherOptions& options) : opt_(options) {}
 
-FactorId FixedLagSmoother::add_factor(std::shared_ptr<const Factor> factor, std::vector<VariableId> variables)
+FactorId FixedLagSmoother::add_factor(std::shared_ptr<const Factor> factor, std::vector<VariableId> variables,
+									  std::shared_ptr<const LossFunction> loss)
 {
 	if (opt_.first_estimate_jacobians)
 		factor = std::make_shared<FirstEstimateFactor>(std::move(factor), variables, first_estimates_);
-	return problem_.add_factor(std::move(factor), std::move(variables));
+	return problem_.add_factor(std::move(factor), std::move(variables), std::move(loss));
 }
 
 void FixedLagSmoother::add_state(double time, VariableId var) { states_.push_back({time, var}); }

@@ -142,6 +142,18 @@ std::string format_ape_csv(const RunReport& report)
 	return s.str();
 }
 
+namespace
+{
+std::string readings_json(const estimators::ReadingCounts& c)
+{
+	std::ostringstream s;
+	s << "{\"processed\": " << c.readings << ", \"gated\": " << c.gated << ", \"readmitted\": " << c.readmitted
+	  << ", \"unconfirmed\": " << c.unconfirmed << ", \"excluded\": " << c.excluded
+	  << ", \"down_weighted\": " << c.down_weighted << "}";
+	return s.str();
+}
+}  // namespace
+
 std::string format_summary_json(const RunReport& report)
 {
 	using eval::json_number;
@@ -169,6 +181,7 @@ std::string format_summary_json(const RunReport& report)
 		s << ",\n     \"ape_full\": " << (r.has_ape ? stats_json(r.ape_full) : "null");
 		s << ",\n     \"seconds\": " << json_number(r.seconds) << ", \"ms_per_step\": " << json_number(r.ms_per_step);
 		s << ", \"steps_processed\": " << r.steps;
+		s << ",\n     \"readings\": " << (r.reading_counts ? readings_json(*r.reading_counts) : "null");
 		s << ", \"failed\": " << (r.failed ? "true" : "false");
 		s << ", \"failed_step\": " << (r.failed ? std::to_string(r.failed_step) : "null");
 		s << ", \"failure\": " << (r.failed ? json_string(r.failure) : "null") << "}";

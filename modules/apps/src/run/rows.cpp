@@ -172,6 +172,7 @@ std::pair<RunRow, RunRow> run_window_rows(const RowContext& ctx, const estimator
 		est.finish();
 		total += seconds_since(t0);
 		online.step_summaries = est.step_summaries();
+		online.reading_counts = lagged.reading_counts = est.reading_counts();
 		online.estimate = after_steps(est.online_trajectory());
 		lagged.estimate = after_steps(est.lagged_trajectory());
 	}
@@ -243,6 +244,7 @@ RunRow run_batch_row(const RowContext& ctx, const estimators::SlidingWindowOptio
 								   estimators::run_batch(ctx.rawlog, unbounded, ctx.options.batch_max_iterations);
 							   row.estimate = after_steps(b.trajectory);
 							   row.mean_iterations = b.summary.iterations;
+							   row.reading_counts = b.counts;
 							   if (!b.summary.is_solution_usable())
 								   mark_failed(row, n, "batch solve failed: " + b.summary.message);
 						   });
@@ -254,7 +256,10 @@ RunRow run_causal_row(const RowContext& ctx, const estimators::SlidingWindowOpti
 	return single_task_row(ctx, named_row("causal", "causal (online W=inf)", "online"),
 						   "re-solving the whole history after each of " + std::to_string(n) + " steps...", true,
 						   [&](RunRow& row) {
-							   row.estimate = after_steps(estimators::run_full_history_causal(ctx.rawlog, unbounded));
+							   estimators::ReadingCounts counts;
+							   row.estimate =
+								   after_steps(estimators::run_full_history_causal(ctx.rawlog, unbounded, &counts));
+							   row.reading_counts = counts;
 						   });
 }
 }  // namespace swba::apps

@@ -70,6 +70,22 @@ void print_inputs(const RunOptions& options, const io::Rawlog& rawlog, const std
 	if (rawlog.warning_count > rawlog.warnings.size())
 		log << "warning: ... " << (rawlog.warning_count - rawlog.warnings.size()) << " more warnings\n";
 }
+
+/** One note per estimator on what the χ² gate and the robust loss did (lagged rows share their online
+ * row's run). */
+void add_reading_notes(RunReport& report)
+{
+	for (const auto& r : report.rows)
+	{
+		if (!r.reading_counts || r.trajectory == "lagged" || r.failed) continue;
+		const auto& c = *r.reading_counts;
+		report.notes.push_back(r.label + ": " + std::to_string(c.readings) + " readings, " + std::to_string(c.gated) +
+							   " gated (" + std::to_string(c.readmitted) + " re-admitted), " +
+							   std::to_string(c.unconfirmed) + " unconfirmed first readings, " +
+							   std::to_string(c.excluded) + " never used, " + std::to_string(c.down_weighted) +
+							   " down-weighted");
+	}
+}
 }  // namespace
 
 RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
@@ -90,6 +106,7 @@ RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
 	if (options.run_batch) report.rows.push_back(run_batch_row(ctx, unbounded));
 	if (options.run_causal) report.rows.push_back(run_causal_row(ctx, unbounded));
 	name_ekf_files(report);
+	add_reading_notes(report);
 	return report;
 }
 

@@ -50,6 +50,9 @@ struct RunRow
 	 * shares the run of its online row and has the same numbers. */
 	std::vector<double> step_ms;
 	double mean_iterations = 0;  ///< window rows: mean LM iterations per step; batch: iterations
+	/** Window, batch and causal rows: what the χ² gate and the robust loss did with the readings (the
+	 * lagged row shares its online row's). Null for the EKF. */
+	std::optional<estimators::ReadingCounts> reading_counts;
 	/** Window rows: what each process() call did (solve/marginalisation time, state size), for
 	 * benchmarks. Empty for other rows. */
 	std::vector<estimators::StepSummary> step_summaries;

@@ -25,6 +25,10 @@ constexpr std::array<EnumName<PoseModel>, 3> enum_names(PoseModel)
 	return {{{PoseModel::Auto, "auto"}, {PoseModel::Spatial, "6d"}, {PoseModel::Planar, "2d"}}};
 }
 
+/** Rows of a bearing-range reading, the degrees of freedom of its χ² tests: 2 in the planar model
+ * (range, yaw), else 3 (range, yaw, pitch). */
+constexpr int reading_dof(PoseModel model) { return model == PoseModel::Planar ? 2 : 3; }
+
 /** `model`, with Auto resolved on `steps` (Planar when io::is_planar(steps)). */
 PoseModel resolve_pose_model(PoseModel model, const std::vector<io::RawlogStep>& steps);
 }  // namespace swba::estimators

@@ -16,6 +16,7 @@
  * \endcode */
 #pragma once
 
+#include <swba/core/loss.h>
 #include <swba/core/names.h>
 #include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
@@ -105,13 +106,41 @@ struct SlidingWindowOptions
 	 * variables, and those landmarks are then set to their conditional optimum (doc/window.md,
 	 * "Cost per step"). Same optimum, a much smaller dense system. Default true. */
 	bool eliminate_prior_only_landmarks = true;
+	/** χ² gate of the bearing-range readings (doc/outliers.md). Window: a reading of a known landmark
+	 * enters only if the squared Mahalanobis distance of its innovation against the current estimate
+	 * (covariance: the sensor noise, the landmark's estimate, the new pose's odometry) is at most the
+	 * χ² quantile at gate_probability with one degree of freedom per reading row (reading_dof: 3 in 6D,
+	 * 2 in the planar model); a gated reading is re-tested after each solve while its pose is
+	 * in the window and dropped for good when the pose leaves. A landmark enters with two mutually
+	 * consistent readings: its first reading waits until one agrees with it (a reading alone cannot be
+	 * tested, and an outlier first reading would otherwise hold the landmark wrong and gate every good
+	 * reading of it). Batch: every reading is re-tested against each solution and the problem solved
+	 * again until the admitted set settles. Gated readings never reach the marginal prior. Default true. */
+	bool gate_readings = true;
+	/** Probability of the χ² gate, in (0, 1): the share of correct readings that pass. Default 0.999. */
+	double gate_probability = 0.999;
+	/** Robust loss of every range-bearing factor (window and batch); robustified factors enter the
+	 * marginal prior with their IRLS weight at the current estimate. Default None. */
+	RobustLoss robust_loss = RobustLoss::None;
+	/** Scale of the robust loss, in whitened units: √χ²_dof(robust_probability) with dof = reading_dof,
+	 * the radius that holds this share of correct readings (residuals beyond it are down-weighted), in
+	 * (0, 1). Default 0.95. */
+	double robust_probability = 0.95;
+
+	/** The χ² bound of the gate for readings of `dof` rows (reading_dof of the model). */
+	double gate_threshold(int dof) const;
+	/** The squared scale of the robust loss for readings of `dof` rows: χ²_dof(robust_probability). */
+	double robust_scale_squared(int dof) const;
+	/** The robust loss of the range-bearing factors of `dof` rows (nullptr for None). */
+	std::shared_ptr<const LossFunction> reading_loss(int dof) const;
 
 	static SolverOptions default_solver_options();
 	/** Throws std::invalid_argument naming the bad option. */
 	void validate() const;
 	/** The INI keys of the window's own options in `section`: landmarks, model, gauge, gauge_prior_weight,
 	 * marginalization_threshold. The members solver, sensor and odometry have their own keys
-	 * (SolverOptions::ini_keys etc.); window_size, policy and FEJ are chosen per run by the application. */
+	 * (SolverOptions::ini_keys etc.); window_size, policy and FEJ are chosen per run by the application.
+	 * Also the outlier keys: gate, gate_probability, robust_loss, robust_probability. */
 	static IniKeys<SlidingWindowOptions> ini_keys(const std::string& section);
 };
 
@@ -135,6 +164,27 @@ struct StepSummary
 	int landmarks_to_world = 0;     ///< of these, landmarks in the prior switched to world XYZ (inverse depth only)
 	int marginalized_landmarks = 0; ///< landmarks marginalised this step (ConstantTime)
 	int prior_only_landmarks = 0;   ///< landmarks held out of this step's LM solve (eliminate_prior_only_landmarks)
+	int gated = 0;                  ///< readings held out by the χ² gate on arrival this step
+	int readmitted = 0;             ///< held readings that passed the gate after this step's solve and entered
+	int down_weighted = 0;          ///< readings that entered the marginal prior this step beyond the loss's scale
+};
+
+/** What happened to the bearing-range readings of a run (totals; see SlidingWindowOptions::gate_readings). */
+struct ReadingCounts
+{
+	std::size_t readings = 0;       ///< readings processed
+	/** Window: readings held out by the gate on arrival; batch: readings outside the gate at the final
+	 * solution. */
+	std::size_t gated = 0;
+	std::size_t readmitted = 0;     ///< window: of the gated, those that passed after a later solve
+	/** First readings of a landmark that no later reading confirmed while their pose was in the window
+	 * (window only; most are landmarks seen once, which carry no information). */
+	std::size_t unconfirmed = 0;
+	/** Readings never used by the estimate: gated and not re-admitted, plus the unconfirmed. */
+	std::size_t excluded = 0;
+	/** Readings whose whitened residual lay beyond the robust loss's scale (Huber weight < 1, Cauchy
+	 * weight < 1/2) when they entered the marginal prior (window) / at the solution (batch). */
+	std::size_t down_weighted = 0;
 };
 
 class SlidingWindowEstimator
@@ -166,6 +216,8 @@ class SlidingWindowEstimator
 	/** Each pose as estimated when it left the window (complete after finish()). */
 	const eval::Trajectory& lagged_trajectory() const;
 	const std::vector<StepSummary>& step_summaries() const;
+	/** Totals over the steps so far (readings still held in the window count as excluded after finish()). */
+	ReadingCounts reading_counts() const;
 	const SlidingWindowOptions& options() const;
 
 	/** Consistency diagnostics of the marginal prior (empty matrices while there is none). */
@@ -197,17 +249,21 @@ class StepError : public std::invalid_argument
 struct BatchResult
 {
 	eval::Trajectory trajectory;
-	Summary summary;
+	Summary summary;            ///< of the last solve round
+	int rounds = 1;             ///< solves (one more each time the gate changed the admitted readings)
+	ReadingCounts counts;
 	double seconds = 0;
 };
 
 /** The same factors over the whole rawlog in one problem (window = ∞), initialised by dead
- * reckoning and first observations, solved once. `max_iterations` overrides the options' solver.
+ * reckoning and first observations, solved (with gate_readings: re-gated and solved again while the
+ * gate changes the admitted readings, at most 6 solves). `max_iterations` overrides the options' solver.
  * Throws StepError for bad data at a step. */
 BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& options, int max_iterations = 100);
 
 /** "Online, W = ∞": re-solves the whole history after every step and keeps the newest pose (the
  * causal optimum the online window trajectory is measured against). O(steps²): for evaluation.
  * Throws StepError for bad data at a step. */
-eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const SlidingWindowOptions& options);
+eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const SlidingWindowOptions& options,
+										 ReadingCounts* counts = nullptr);
 }  // namespace swba::estimators

@@ -76,8 +76,11 @@ class FixedLagSmoother
 	Problem& problem() { return problem_; }
 	const Problem& problem() const { return problem_; }
 
-	/** Adds a factor, wrapped in a FirstEstimateFactor when first-estimate Jacobians are on. */
-	FactorId add_factor(std::shared_ptr<const Factor> factor, std::vector<VariableId> variables);
+	/** Adds a factor, wrapped in a FirstEstimateFactor when first-estimate Jacobians are on, with an
+	 * optional robust loss (a robustified factor enters the marginal prior with its IRLS weight at the
+	 * current values, as the solver's Triggs correction gives it). */
+	FactorId add_factor(std::shared_ptr<const Factor> factor, std::vector<VariableId> variables,
+						std::shared_ptr<const LossFunction> loss = nullptr);
 	/** Appends `var` at `time` as the newest state of the window. */
 	void add_state(double time, VariableId var);
 	/** The window's states, oldest first. */

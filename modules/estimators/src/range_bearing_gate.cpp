@@ -1,0 +1,213 @@
+// The χ² gate of the range-bearing graph: which readings enter the window (on arrival, after each
+// solve, or after each batch solve) and what the counts say. doc/outliers.md explains the choices.
+#include "range_bearing_graph.h"
+
+#include <Eigen/Cholesky>
+
+#include <algorithm>
+#include <limits>
+
+namespace swba::estimators::detail
+{
+double RangeBearingGraph::innovation_distance(const Eigen::Vector3d& p, std::size_t n, const Observation& o,
+											  const Eigen::MatrixXd* pose_cov) const
+{
+	const auto& P = poses_[o.pose_step];
+	const auto f = model_reading_factor(std::make_shared<RangeBearingXyzFactor>(o.z, P.sensor), o);
+	const int m = f->residual_dim();
+	const double* x[2] = {smoother_.problem().value(P.var), p.data()};
+	Eigen::VectorXd r(m);
+	// ∂h/∂T on the pose variable's tangent (6 in 6D, 3 planar), as pose_cov.
+	Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> JT(m, pose_cov ? pose_cov->rows() : 0);
+	double* jac[2] = {pose_cov ? JT.data() : nullptr, nullptr};
+	if (!f->evaluate(x, r.data(), jac) || !r.allFinite()) return std::numeric_limits<double>::infinity();
+	Eigen::MatrixXd S = reading_sigma(o).cwiseAbs2().asDiagonal();
+	S *= 1.0 + 1.0 / static_cast<double>(std::max<std::size_t>(n, 1));
+	if (pose_cov) S += JT * (*pose_cov) * JT.transpose();
+	return r.dot(S.ldlt().solve(r));
+}
+
+Eigen::Vector3d RangeBearingGraph::world_position(const Landmark& lm) const
+{
+	const Eigen::Vector3d x = Eigen::Map<const Eigen::Vector3d>(smoother_.problem().value(lm.var));
+	if (opt_.landmarks == LandmarkParameterization::Xyz || lm.world_xyz) return x;
+	const auto& a = poses_[lm.anchor_step];
+	return inverse_depth_to_world(smoother_.problem().value(a.var), a.sensor, x);
+}
+
+double RangeBearingGraph::gate_distance(const Landmark& lm, const Observation& o, const Eigen::MatrixXd* pose_cov) const
+{
+	return innovation_distance(world_position(lm), lm.obs.size(), o, pose_cov);
+}
+
+void RangeBearingGraph::admit_reading(std::int32_t id, const Observation& o, StepSummary& sum)
+{
+	auto it = landmarks_.find(id);
+	if (it != landmarks_.end())
+	{
+		Landmark& lm = it->second;
+		if (gate_distance(lm, o, &newest_pose_cov_) <= gate_threshold_)
+			admit(lm, o);
+		else
+		{
+			lm.held.push_back(o);
+			sum.gated++;
+			counts_.gated++;
+		}
+		return;
+	}
+	// A landmark not in the graph: find the newest waiting first reading that agrees with this one.
+	const Problem& problem = smoother_.problem();
+	auto& waiting = unconfirmed_[id];
+	for (auto c = waiting.rbegin(); c != waiting.rend(); ++c)
+	{
+		const auto& C = poses_[c->pose_step];
+		const Eigen::Vector3d p = inverse_depth_to_world(problem.value(C.var), C.sensor, inverse_depth_from_measurement(c->z));
+		if (innovation_distance(p, 1, o, &newest_pose_cov_) > gate_threshold_) continue;
+		Landmark& lm = add_landmark(id, *c);
+		admit(lm, *c);
+		admit(lm, o);
+		// The others disagreed with this reading: held, re-tested after the solve like gated readings.
+		for (const auto& other : waiting)
+			if (&other != &*c) lm.held.push_back(other);
+		sum.gated += static_cast<int>(waiting.size() - 1);
+		counts_.gated += waiting.size() - 1;
+		unconfirmed_.erase(id);
+		return;
+	}
+	waiting.push_back(o);
+}
+
+void RangeBearingGraph::readmit_held(StepSummary& sum)
+{
+	for (auto& [id, lm] : landmarks_)
+	{
+		std::vector<Observation> still;
+		for (const auto& h : lm.held)
+			if (gate_distance(lm, h, nullptr) <= gate_threshold_)
+			{
+				admit(lm, h);
+				sum.readmitted++;
+				counts_.readmitted++;
+			}
+			else
+				still.push_back(h);
+		lm.held = std::move(still);
+	}
+}
+
+void RangeBearingGraph::expire_readings_at(std::size_t k)
+{
+	const auto at_k = [k](const Observation& o) { return o.pose_step == k; };
+	for (auto& [id, lm] : landmarks_)
+	{
+		const auto end = std::remove_if(lm.held.begin(), lm.held.end(), at_k);
+		counts_.excluded += static_cast<std::size_t>(lm.held.end() - end);
+		lm.held.erase(end, lm.held.end());
+	}
+	for (auto it = unconfirmed_.begin(); it != unconfirmed_.end();)
+	{
+		auto& w = it->second;
+		const auto end = std::remove_if(w.begin(), w.end(), at_k);
+		const auto dropped = static_cast<std::size_t>(w.end() - end);
+		counts_.unconfirmed += dropped;
+		counts_.excluded += dropped;
+		w.erase(end, w.end());
+		it = w.empty() ? unconfirmed_.erase(it) : std::next(it);
+	}
+}
+
+void RangeBearingGraph::finish_counts()
+{
+	for (auto& [id, lm] : landmarks_)
+	{
+		counts_.excluded += lm.held.size();
+		lm.held.clear();
+	}
+	for (const auto& [id, w] : unconfirmed_)
+	{
+		counts_.unconfirmed += w.size();
+		counts_.excluded += w.size();
+	}
+	unconfirmed_.clear();
+}
+
+bool RangeBearingGraph::regate_all()
+{
+	bool changed = false;
+	for (auto& [id, lm] : landmarks_)
+	{
+		std::vector<Observation> all = lm.obs;
+		all.insert(all.end(), lm.held.begin(), lm.held.end());
+		std::vector<double> d(all.size());
+		for (std::size_t i = 0; i < all.size(); i++) d[i] = gate_distance(lm, all[i], nullptr);
+		// A landmark keeps at least its best-fitting reading (a variable with no factor has no estimate).
+		const std::size_t best = static_cast<std::size_t>(std::min_element(d.begin(), d.end()) - d.begin());
+		std::vector<Observation> obs, held;
+		for (std::size_t i = 0; i < all.size(); i++)
+		{
+			const bool in = d[i] <= gate_threshold_ || i == best;
+			const bool was_in = all[i].factor >= 0;
+			if (in == was_in)
+			{
+				(in ? obs : held).push_back(all[i]);
+				continue;
+			}
+			changed = true;
+			Observation o = all[i];
+			if (in)
+				o.factor = add_observation_factor(lm, o);
+			else
+			{
+				smoother_.problem().remove_factor(o.factor);
+				o.factor = -1;
+			}
+			(in ? obs : held).push_back(o);
+		}
+		lm.obs = std::move(obs);
+		lm.held = std::move(held);
+	}
+	counts_.gated = 0;
+	for (const auto& [id, lm] : landmarks_) counts_.gated += lm.held.size();
+	counts_.excluded = counts_.gated;
+	return changed;
+}
+
+void RangeBearingGraph::set_reading_loss(std::shared_ptr<const LossFunction> loss)
+{
+	loss_ = std::move(loss);
+	for (auto& [id, lm] : landmarks_)
+		for (auto& o : lm.obs)
+		{
+			smoother_.problem().remove_factor(o.factor);
+			o.factor = add_observation_factor(lm, o);
+		}
+}
+
+int RangeBearingGraph::count_down_weighted(const std::set<FactorId>& factors) const
+{
+	if (!loss_) return 0;
+	const Problem& problem = smoother_.problem();
+	int n = 0;
+	for (FactorId f : factors)
+	{
+		const auto& fe = problem.factor(f);
+		if (!fe.loss) continue;
+		std::vector<const double*> x;
+		for (VariableId v : fe.variables) x.push_back(problem.value(v));
+		Eigen::VectorXd r(fe.factor->residual_dim());
+		if (!fe.factor->evaluate_whitened(x.data(), r.data(), nullptr)) continue;
+		if (r.squaredNorm() > robust_scale_sq_) n++;
+	}
+	return n;
+}
+
+std::set<FactorId> RangeBearingGraph::reading_factors_leaving(std::size_t k, const std::set<VariableId>& leaving) const
+{
+	std::set<FactorId> out;
+	for (const auto& [id, lm] : landmarks_)
+		for (const auto& o : lm.obs)
+			if (o.pose_step == k || leaving.count(lm.var)) out.insert(o.factor);
+	return out;
+}
+}  // namespace swba::estimators::detail
