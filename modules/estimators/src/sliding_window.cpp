@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -26,6 +27,7 @@ struct SlidingWindowEstimator::Impl
 	detail::RangeBearingGraph graph;
 	eval::Trajectory online, lagged;
 	std::vector<StepSummary> summaries;
+	std::optional<mrpt::poses::CPose3D> initial_left;  ///< the initial pose's estimate when it left the window
 	bool finished = false;
 
 	explicit Impl(const SlidingWindowOptions& o) : graph(o) {}
@@ -34,11 +36,12 @@ struct SlidingWindowEstimator::Impl
 	const SlidingWindowOptions& opt() const { return graph.options(); }
 
 	/** One LM solve of the window (prior-only landmarks eliminated as the options say). */
-	void solve(StepSummary& sum)
+	void solve(StepSummary& sum, const std::map<VariableId, std::vector<double>>& before)
 	{
 		const auto ts = Clock::now();
 		const auto is_landmark = [&](VariableId v) { return graph.is_landmark(v); };
 		const smoother::UpdateSummary u = smoother().update(is_landmark);
+		if (opt().gauge == GaugeMode::Free) graph.hold_gauge(before);
 		sum.prior_only_landmarks = u.prior_only_eliminated;
 		sum.solve_seconds = seconds_since(ts);
 		sum.iterations = u.solver.iterations;
@@ -85,8 +88,10 @@ struct SlidingWindowEstimator::Impl
 		const smoother::TimedState oldest = smoother().states().front();
 		const std::set<VariableId> leaving = landmarks_leaving_with(graph.step_of(oldest.var), sum);
 		lagged.push_back(oldest.time, smoother().problem().pose(oldest.var));
-		const std::set<FactorId> removed = smoother().marginalize_oldest(leaving);
-		graph.forget_observations(removed);
+		if (oldest.var == graph.poses().front().var) initial_left = smoother().problem().pose(oldest.var);
+		const smoother::MarginalizationSummary m = smoother().marginalize_oldest(leaving);
+		sum.unevaluable_factors = m.unevaluable_factors;
+		graph.forget_observations(m.removed);
 		for (VariableId v : leaving)
 			if (graph.forget_landmark(v)) sum.marginalized_landmarks++;
 	}
@@ -97,8 +102,9 @@ struct SlidingWindowEstimator::Impl
 		const auto t0 = Clock::now();
 		StepSummary sum;
 		sum.step = step.index;
+		const auto before = graph.gauge_snapshot();
 		graph.add_step(step, sum);
-		solve(sum);
+		solve(sum, before);
 		online.push_back(step.time(), smoother().problem().pose(smoother().states().back().var));
 		if (smoother().over_lag())
 		{
@@ -149,10 +155,20 @@ std::map<std::int32_t, Eigen::Vector3d> SlidingWindowEstimator::landmarks() cons
 {
 	return impl_->graph.landmark_positions();
 }
+mrpt::poses::CPose3D SlidingWindowEstimator::initial_pose() const
+{
+	if (impl_->initial_left) return *impl_->initial_left;
+	return impl_->graph.smoother().problem().pose(impl_->graph.poses().front().var);
+}
 const eval::Trajectory& SlidingWindowEstimator::online_trajectory() const { return impl_->online; }
 const eval::Trajectory& SlidingWindowEstimator::lagged_trajectory() const { return impl_->lagged; }
 const std::vector<StepSummary>& SlidingWindowEstimator::step_summaries() const { return impl_->summaries; }
 const SlidingWindowOptions& SlidingWindowEstimator::options() const { return impl_->graph.options(); }
+
+const smoother::MarginalPrior& SlidingWindowEstimator::marginal_prior() const
+{
+	return impl_->graph.smoother().prior();
+}
 
 Eigen::MatrixXd SlidingWindowEstimator::prior_information() const
 {
@@ -208,18 +224,21 @@ BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& opti
 	BatchResult r;
 	r.summary = graph.smoother().solve(so);
 	const Problem& problem = graph.smoother().problem();
+	r.initial_pose = problem.pose(graph.poses().front().var);
 	for (std::size_t k = 1; k < graph.poses().size(); k++)
 		r.trajectory.push_back(graph.poses()[k].time, problem.pose(graph.poses()[k].var));
 	r.seconds = seconds_since(t0);
 	return r;
 }
 
-eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const SlidingWindowOptions& options)
+eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const SlidingWindowOptions& options,
+										 mrpt::poses::CPose3D* initial_pose)
 {
 	SlidingWindowOptions o = options;
 	o.window_size = 0;
 	SlidingWindowEstimator est(o);
 	for (const auto& s : rawlog.steps) est.process(s);
+	if (initial_pose) *initial_pose = est.initial_pose();
 	return est.online_trajectory();
 }
 }  // namespace swba::estimators

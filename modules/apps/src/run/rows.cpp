@@ -25,6 +25,18 @@ eval::Trajectory after_steps(const eval::Trajectory& t)
 	return out;
 }
 
+/** Under the free gauge nothing holds the initial pose at the origin, so the estimate is in a frame of
+ * its own: expressed relative to the estimator's own estimate of the initial pose (T₀⁻¹·T_k), it is
+ * in the frame the fixed gauge holds (initial pose = origin) and comparable with the other rows.
+ * Other gauges: unchanged. */
+eval::Trajectory in_gauge_frame(eval::Trajectory t, const estimators::SlidingWindowOptions& o,
+								const mrpt::poses::CPose3D& initial)
+{
+	if (o.gauge != GaugeMode::Free) return t;
+	for (auto& p : t.poses) p = p - initial;
+	return t;
+}
+
 std::string fej_name(bool fej) { return fej ? "fej" : "nofej"; }
 
 /** The EKF's sensor noise: the window's option if set, else the observation's own (given explicitly,
@@ -169,8 +181,8 @@ std::pair<RunRow, RunRow> run_window_rows(const RowContext& ctx, const estimator
 		est.finish();
 		total += seconds_since(t0);
 		online.step_summaries = est.step_summaries();
-		online.estimate = after_steps(est.online_trajectory());
-		lagged.estimate = after_steps(est.lagged_trajectory());
+		online.estimate = after_steps(in_gauge_frame(est.online_trajectory(), wo, est.initial_pose()));
+		lagged.estimate = after_steps(in_gauge_frame(est.lagged_trajectory(), wo, est.initial_pose()));
 	}
 	catch (const std::exception& e)
 	{
@@ -234,7 +246,7 @@ RunRow run_batch_row(const RowContext& ctx, const estimators::SlidingWindowOptio
 						   "solving all " + std::to_string(n) + " steps at once...", n > 300, [&](RunRow& row) {
 							   estimators::BatchResult b =
 								   estimators::run_batch(ctx.rawlog, unbounded, ctx.options.batch_max_iterations);
-							   row.estimate = after_steps(b.trajectory);
+							   row.estimate = after_steps(in_gauge_frame(b.trajectory, unbounded, b.initial_pose));
 							   row.mean_iterations = b.summary.iterations;
 							   if (!b.summary.is_solution_usable())
 								   mark_failed(row, n, "batch solve failed: " + b.summary.message);
@@ -247,7 +259,10 @@ RunRow run_causal_row(const RowContext& ctx, const estimators::SlidingWindowOpti
 	return single_task_row(ctx, named_row("causal", "causal (online W=inf)", "online"),
 						   "re-solving the whole history after each of " + std::to_string(n) + " steps...", true,
 						   [&](RunRow& row) {
-							   row.estimate = after_steps(estimators::run_full_history_causal(ctx.rawlog, unbounded));
+							   mrpt::poses::CPose3D initial;
+							   const eval::Trajectory t =
+								   estimators::run_full_history_causal(ctx.rawlog, unbounded, &initial);
+							   row.estimate = after_steps(in_gauge_frame(t, unbounded, initial));
 						   });
 }
 }  // namespace swba::apps

@@ -22,6 +22,7 @@
 #include <swba/estimators/sensor_noise.h>
 #include <swba/nonlinear/gauge.h>
 #include <swba/nonlinear/solver.h>
+#include <swba/smoother/marginal_prior.h>
 
 #include <array>
 #include <cstdint>
@@ -128,6 +129,10 @@ struct StepSummary
 	int landmarks_to_world = 0;     ///< of these, landmarks in the prior switched to world XYZ (inverse depth only)
 	int marginalized_landmarks = 0; ///< landmarks marginalised this step (ConstantTime)
 	int prior_only_landmarks = 0;   ///< landmarks held out of this step's LM solve (eliminate_prior_only_landmarks)
+	/** Factors the marginalisation could not evaluate at the current values (residual undefined or not
+	 * finite there): dropped with the marginalised variables, their information lost. Counted, never
+	 * silent: swba run reports the total as a note. */
+	int unevaluable_factors = 0;
 };
 
 class SlidingWindowEstimator
@@ -154,6 +159,9 @@ class SlidingWindowEstimator
 	/** Current landmark estimates (world XYZ) by landmark ID. */
 	std::map<std::int32_t, Eigen::Vector3d> landmarks() const;
 
+	/** The estimate of the initial pose (t = 0; the origin under the fixed gauge, free to move under
+	 * the others): its value when it left the window, or its current value while it is in it. */
+	mrpt::poses::CPose3D initial_pose() const;
 	/** Each pose as estimated right after its own step (t = k + 1). */
 	const eval::Trajectory& online_trajectory() const;
 	/** Each pose as estimated when it left the window (complete after finish()). */
@@ -162,6 +170,8 @@ class SlidingWindowEstimator
 	const SlidingWindowOptions& options() const;
 
 	/** Consistency diagnostics of the marginal prior (empty matrices while there is none). */
+	/** The marginal prior as stored: its square-root form (J, e, x_lin) and its information (H, b). */
+	const smoother::MarginalPrior& marginal_prior() const;
 	/** Its information H = JᵀJ over its variables, in their tangent coordinates. */
 	Eigen::MatrixXd prior_information() const;
 	/** The 6 global SE(3) motions (translation, rotation) as columns in the same coordinates, at the
@@ -179,6 +189,7 @@ struct BatchResult
 {
 	eval::Trajectory trajectory;
 	Summary summary;
+	mrpt::poses::CPose3D initial_pose;  ///< the initial pose's estimate (t = 0, not in `trajectory`)
 	double seconds = 0;
 };
 
@@ -187,6 +198,8 @@ struct BatchResult
 BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& options, int max_iterations = 100);
 
 /** "Online, W = ∞": re-solves the whole history after every step and keeps the newest pose (the
- * causal optimum the online window trajectory is measured against). O(steps²): for evaluation. */
-eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const SlidingWindowOptions& options);
+ * causal optimum the online window trajectory is measured against). O(steps²): for evaluation.
+ * `initial_pose` (optional) receives the final estimate of the initial pose. */
+eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const SlidingWindowOptions& options,
+										 mrpt::poses::CPose3D* initial_pose = nullptr);
 }  // namespace swba::estimators
