@@ -72,9 +72,7 @@ TEST(FixedLagSmoother, LinearGaussianChainEqualsBatchAfterMarginalising)
 	FixedLagSmootherOptions opt;
 	opt.lag = lag;
 	opt.solver.max_iterations = 50;
-	opt.solver.function_tolerance = 1e-16;
-	opt.solver.gradient_tolerance = 1e-14;
-	opt.solver.parameter_tolerance = 1e-14;
+	opt.solver.function_tolerance = opt.solver.gradient_tolerance = opt.solver.parameter_tolerance = 1e-14;
 	FixedLagSmoother sm(opt);
 	std::vector<VariableId> x;
 	int marginalised = 0;

@@ -12,6 +12,13 @@ namespace swba::test
 {
 inline std::string dataset(const std::string& name) { return std::string(SWBA_MRPT_DATASETS) + "/" + name; }
 
+/** kf-slam_6D_demo, read once. */
+inline const io::Rawlog& demo_rawlog()
+{
+	static const io::Rawlog r = io::read_rawlog(dataset("kf-slam_6D_demo.rawlog"));
+	return r;
+}
+
 inline eval::Trajectory ground_truth(const std::string& path)
 {
 	return eval::read_mrpt_ground_truth(path);  // row i has t = i

@@ -178,33 +178,21 @@ Eigen::MatrixXd SlidingWindowEstimator::prior_information() const
 
 Eigen::MatrixXd SlidingWindowEstimator::prior_gauge_directions() const
 {
-	const auto& sm = impl_->graph.smoother();
-	int n = 0;
-	for (VariableId v : sm.prior().variables()) n += sm.problem().variable(v).manifold->tangent_size();
-	Eigen::MatrixXd N = Eigen::MatrixXd::Zero(n, 6);
-	int off = 0;
+	const auto& graph = impl_->graph;
+	const auto& sm = graph.smoother();
+	std::vector<Eigen::MatrixXd> blocks;
+	Eigen::Index n = 0;
 	for (VariableId v : sm.prior().variables())
 	{
-		const auto& var = sm.problem().variable(v);
-		const double* x = sm.linearization_point(v);
-		if (var.manifold->tangent_size() == 6)
-		{
-			// The global motion p ↦ p + u + w × p as a right perturbation of T = [R | t]:
-			// δρ = Rᵀ(u + w × t), δω = Rᵀw.
-			const auto T = se3_view(x);
-			const Eigen::Matrix3d Rt = T.leftCols<3>().transpose();
-			N.block<3, 3>(off, 0) = Rt;
-			N.block<3, 3>(off, 3) = -Rt * skew(T.col(3));
-			N.block<3, 3>(off + 3, 3) = Rt;
-		}
-		else if (impl_->graph.is_world_point(v))
-		{
-			const Eigen::Vector3d p(x[0], x[1], x[2]);
-			N.block<3, 3>(off, 0) = Eigen::Matrix3d::Identity();
-			N.block<3, 3>(off, 3) = -skew(p);
-		}
-		// An anchored inverse-depth landmark is relative to its anchor pose: invariant, zero rows.
-		off += var.manifold->tangent_size();
+		blocks.push_back(graph.gauge_directions(v, sm.linearization_point(v)));
+		n += blocks.back().rows();
+	}
+	Eigen::MatrixXd N(n, 6);
+	Eigen::Index off = 0;
+	for (const auto& B : blocks)
+	{
+		N.middleRows(off, B.rows()) = B;
+		off += B.rows();
 	}
 	return N;
 }

@@ -48,7 +48,9 @@ Eigen::MatrixXd gram(const Eigen::MatrixXd& A)
  * L Lᵀ + S, stopped as soon as the largest remaining diagonal of the Schur complement S is not above
  * rel_threshold times the first (largest) pivot. H being semi-definite, its diagonal bounds S, so S
  * is numerically zero: the factor is rank-revealing, unlike a pivoted LDLᵀ that chooses its pivots
- * on the original diagonal (Eigen::LDLT), whose pivots after a tiny one are ratios of rounding noise. */
+ * on the original diagonal (Eigen::LDLT), whose pivots after a tiny one are ratios of rounding noise.
+ * `scale` (if larger) replaces the first pivot as the reference: the magnitude of the system H came
+ * from, so that an H that is all rounding noise (a Schur complement that cancels) has rank 0. */
 struct PivotedCholesky
 {
 	Eigen::MatrixXd L;      ///< n × rank, lower trapezoidal (rows in pivot order)
@@ -56,7 +58,7 @@ struct PivotedCholesky
 	int rank = 0;
 };
 
-PivotedCholesky pivoted_cholesky(const Eigen::MatrixXd& H, double rel_threshold)
+PivotedCholesky pivoted_cholesky(const Eigen::MatrixXd& H, double rel_threshold, double scale)
 {
 	const Eigen::Index n = H.rows();
 	PivotedCholesky c;
@@ -71,7 +73,7 @@ PivotedCholesky pivoted_cholesky(const Eigen::MatrixXd& H, double rel_threshold)
 		Eigen::Index j;
 		const double dj = d.tail(n - k).maxCoeff(&j);
 		j += k;
-		if (k == 0) first = dj;
+		if (k == 0) first = std::max(dj, scale);
 		if (!(dj > 0) || !(dj > rel_threshold * first)) break;
 		if (j != k)
 		{
@@ -147,15 +149,15 @@ MarginalizationResult marginalize(const Eigen::MatrixXd& H, const Eigen::VectorX
 	}
 	out.H = 0.5 * (out.H + out.H.transpose()).eval();
 
-	square_root_form(out, rel_threshold);
+	square_root_form(out, rel_threshold, Hkk.size() ? Hkk.diagonal().maxCoeff() : 0.0);
 	return out;
 }
 
-void square_root_form(MarginalizationResult& m, double rel_threshold)
+void square_root_form(MarginalizationResult& m, double rel_threshold, double scale)
 {
 	const int n = static_cast<int>(m.H.rows());
 	if (m.H.cols() != n || m.b.size() != n) throw std::invalid_argument("square_root_form: H must be n×n and b n");
-	const PivotedCholesky c = pivoted_cholesky(m.H, rel_threshold);
+	const PivotedCholesky c = pivoted_cholesky(m.H, rel_threshold, scale);
 	m.rank = c.rank;
 	// Pᵀ H* P ≈ L Lᵀ over the leading `rank` columns of L: J = Lᵀ Pᵀ (column perm[i] of J is row i of L)
 	// and Jᵀe = −b* on the kept coordinates, e = −L₁₁⁻¹ (Pᵀ b*)₁.
@@ -175,12 +177,13 @@ void square_root_form(MarginalizationResult& m, double rel_threshold)
 }
 
 MarginalizationResult marginalize_leading(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,
-										  double threshold)
+										  double threshold, double scale)
 {
 	const int n = static_cast<int>(H.rows());
 	if (H.cols() != n || b.size() != n || num_keep < 0 || num_keep > n)
 		throw std::invalid_argument("marginalize_leading: H must be n×n, b n, 0 <= num_keep <= n");
 	const int nk = num_keep, nm = n - num_keep;
+	if (nk > 0) scale = std::max(scale, H.topLeftCorner(nk, nk).diagonal().maxCoeff());
 	MarginalizationResult out;
 	if (nm > 0)
 	{
@@ -197,16 +200,17 @@ MarginalizationResult marginalize_leading(const Eigen::MatrixXd& H, const Eigen:
 	}
 	out.H = 0.5 * (out.H + out.H.transpose()).eval();
 	// Square root: a blocked Cholesky when H* is well conditioned, else (rank-deficient H*, e.g. anchor
-	// poses of inverse-depth landmarks, doc/window.md) the truncated pivoted LDLᵀ on the same H*.
+	// poses of inverse-depth landmarks or a free gauge, doc/window.md) the truncated pivoted Cholesky
+	// of the same H*. Both cut relative to the kept block before elimination (`scale`).
 	const auto pivoted_form = [&] {
-		square_root_form(out, threshold);
+		square_root_form(out, threshold, scale);
 		return out;
 	};
 	if (nk == 0) return pivoted_form();
 	Eigen::LLT<Eigen::MatrixXd> llt(out.H);
 	if (llt.info() != Eigen::Success) return pivoted_form();
 	const Eigen::VectorXd piv = llt.matrixLLT().diagonal().cwiseAbs2();
-	if (!(piv.minCoeff() > threshold * piv.maxCoeff())) return pivoted_form();
+	if (!(piv.minCoeff() > threshold * std::max(piv.maxCoeff(), scale))) return pivoted_form();
 	// ½‖e + J δ‖² = ½ δᵀ H* δ − b*ᵀ δ + const with J = Lᵀ, Jᵀe = −b*: e = −L⁻¹ b*.
 	out.J = llt.matrixU();
 	out.e = -(llt.matrixL().solve(out.b));
@@ -257,9 +261,10 @@ ConditionalElimination eliminate_conditional(PartitionedNormalEquations s, doubl
 	}
 	const Eigen::Index na = s.Haa.rows();
 	if (na == 0) return out;
+	const double scale = s.Haa.diagonal().maxCoeff();
 	s.Haa.noalias() -= s.Hpa.transpose() * out.K;
 	const Eigen::VectorXd b_red = s.ba - s.Hpa.transpose() * out.k;
-	out.marginal = marginalize_leading(s.Haa, b_red, static_cast<int>(na), threshold);
+	out.marginal = marginalize_leading(s.Haa, b_red, static_cast<int>(na), threshold, scale);
 	return out;
 }
 }  // namespace swba
