@@ -6,6 +6,8 @@
 
 #include "window_test_utils.h"
 
+#include <cstdio>
+
 using namespace swba;
 using namespace swba::estimators;
 
@@ -112,4 +114,53 @@ TEST(WindowPlanar, BadDataNamesTheStep)
 	{
 		EXPECT_EQ(e.step(), 12u);
 	}
+}
+
+TEST(WindowPlanar, FreeGaugeIsHeldInThePlane)
+{
+	// Under the free gauge the window is held in its first estimates' frame by undoing a planar rigid
+	// motion (x, y, yaw) after each solve: the estimate stays on the plane, the prior's gauge
+	// directions are the planar ones (the off-plane columns zero, the planar ones in the prior's null
+	// space), and the run is as accurate as with the fixed gauge. Measured (W = 10): SE(2)-aligned
+	// online / lagged APE fixed 0.003705 / 0.003437, free 0.003613 / 0.003407; in the initial pose's
+	// frame fixed 0.003989, free 0.004495 (the initial pose's own estimate error enters every row);
+	// without the hold the free run's figure in the initial pose's frame was 0.034168.
+	struct Run
+	{
+		double online = 0, lagged = 0, initial_frame = 0;
+	};
+	const auto run = [](GaugeMode gauge) {
+		SlidingWindowOptions o;
+		o.window_size = 10;
+		o.gauge = gauge;
+		SlidingWindowEstimator est(o);
+		for (const auto& s : demo2d().steps) est.process(s);
+		est.finish();
+		expect_planar(est.online_trajectory());
+		expect_planar(est.lagged_trajectory());
+		const mrpt::poses::CPose3D t0 = est.initial_pose();
+		EXPECT_TRUE(t0.z() == 0.0 && t0.pitch() == 0.0 && t0.roll() == 0.0) << t0;
+		const Eigen::MatrixXd H = est.prior_information(), N = est.prior_gauge_directions();
+		EXPECT_EQ(N.middleCols<3>(2).norm(), 0.0);
+		if (gauge == GaugeMode::Free)
+		{
+			EXPECT_LT((H * N).norm(), 1e-6 * H.norm() * N.norm());
+		}
+		eval::Trajectory relative = est.online_trajectory();
+		for (auto& p : relative.poses) p = p - t0;
+		eval::ApeOptions aligned;
+		aligned.alignment.align = true;
+		Run r;
+		r.online = eval::compute_ape(gt2d(), est.online_trajectory(), aligned).stats.rmse;
+		r.lagged = eval::compute_ape(gt2d(), est.lagged_trajectory(), aligned).stats.rmse;
+		r.initial_frame = test::ape_trans_rmse(gt2d(), relative);
+		return r;
+	};
+	const Run fixed = run(GaugeMode::Fixed), free = run(GaugeMode::Free);
+	std::printf("[planar gauge] W = 10, aligned APE online / lagged: fixed %.6f / %.6f, free %.6f / %.6f; "
+				"in the initial pose's frame: fixed %.6f, free %.6f\n",
+				fixed.online, fixed.lagged, free.online, free.lagged, fixed.initial_frame, free.initial_frame);
+	EXPECT_LT(free.online, 1.1 * fixed.online);
+	EXPECT_LT(free.lagged, 1.1 * fixed.lagged);
+	EXPECT_LT(free.initial_frame, 1.25 * fixed.initial_frame);
 }

@@ -42,8 +42,9 @@ TEST(SlidingWindowPriorLandmarks, DenseMapRunStaysAsAccurateAsBatch)
 	std::cout << "[prior landmarks] APE rmse: batch " << batch << ", online W=10 " << online << ", lagged " << lagged
 			  << "; " << to_world << " switched to XYZ, " << reanchored - to_world << " re-anchored\n";
 	// Noise: odometry 0.06 m, range 0.01 m; batch APE ≈ 0.008 m. A window that keeps the map's
-	// information stays within a small factor of batch (kf-slam_6D_demo: online/batch 1.12).
+	// information is about as accurate as batch (measured: online and lagged 0.91× batch; 0.94× and
+	// 0.95× with the ∂ρ/∂range term of the switch to XYZ tripled, 0.98× and 1.01× with it negated).
 	EXPECT_LT(batch, 0.02);
-	EXPECT_LT(online, 1.5 * batch);
-	EXPECT_LT(lagged, 1.5 * batch);
+	EXPECT_LT(online, 1.1 * batch);
+	EXPECT_LT(lagged, 1.1 * batch);
 }

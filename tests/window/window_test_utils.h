@@ -22,6 +22,9 @@ inline const io::Rawlog& cached_rawlog(const std::string& name)
 	return it->second;
 }
 
+/** kf-slam_6D_demo, read once. */
+inline const io::Rawlog& demo_rawlog() { return cached_rawlog("kf-slam_6D_demo.rawlog"); }
+
 inline eval::Trajectory ground_truth(const std::string& path)
 {
 	return eval::read_mrpt_ground_truth(path);  // row i has t = i

@@ -130,6 +130,23 @@ class RangeBearingGraph
 	 * a landmark in the prior changes parameterisation once, not every time its anchor leaves. */
 	void convert_to_world_xyz(Landmark& lm);
 
+	/** The six global rigid motions p ↦ p + u + w × p (columns [u, w]) in the tangent coordinates of
+	 * variable `v` at value `x`: a pose's right perturbation, a world point's offset; zero rows for an
+	 * inverse-depth landmark (relative to its anchor). The graph's cost is invariant under them. */
+	Eigen::MatrixXd gauge_directions(VariableId v, const double* x) const;
+	/** The frame a free-gauge solve is held in: each non-constant variable's linearisation point (its
+	 * first estimate once frozen, else its current value). */
+	std::map<VariableId, std::vector<double>> gauge_snapshot() const;
+	/** Free gauge: a solve's step is determined only up to the global motions, along which LM's
+	 * damping moves it a little at every iteration; over a run the window's frame random-walks away
+	 * from the frame its first estimates (and the marginal prior's Jacobian, whose null space is the
+	 * global motions there) were taken in. This fits the rigid motion that best explains the
+	 * displacement of the variables from `before` (least squares in their tangent coordinates) and
+	 * applies its inverse to every pose and world point: the cost does not change, and the window
+	 * stays in the frame of its first estimates. Variables not in `before` (added since) are moved too
+	 * but do not enter the fit. */
+	void hold_gauge(const std::map<VariableId, std::vector<double>>& before);
+
    private:
 	/** Fixes the model (Spatial or Planar), the gate's and the loss's χ² bounds for its reading_dof,
 	 * and adds the first pose and its gauge. */

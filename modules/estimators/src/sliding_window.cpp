@@ -5,13 +5,10 @@
 
 #include "range_bearing_graph.h"
 
-#include <swba/core/lie.h>
-#include <swba/core/manifold.h>
-#include <swba/factors/planar.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -28,6 +25,7 @@ struct SlidingWindowEstimator::Impl
 	detail::RangeBearingGraph graph;
 	eval::Trajectory online, lagged;
 	std::vector<StepSummary> summaries;
+	std::optional<mrpt::poses::CPose3D> initial_left;  ///< the initial pose's estimate when it left the window
 	bool finished = false;
 
 	explicit Impl(const SlidingWindowOptions& o) : graph(o) {}
@@ -36,11 +34,12 @@ struct SlidingWindowEstimator::Impl
 	const SlidingWindowOptions& opt() const { return graph.options(); }
 
 	/** One LM solve of the window (prior-only landmarks eliminated as the options say). */
-	void solve(StepSummary& sum)
+	void solve(StepSummary& sum, const std::map<VariableId, std::vector<double>>& before)
 	{
 		const auto ts = Clock::now();
 		const auto is_landmark = [&](VariableId v) { return graph.is_landmark(v); };
 		const smoother::UpdateSummary u = smoother().update(is_landmark);
+		if (opt().gauge == GaugeMode::Free) graph.hold_gauge(before);
 		sum.prior_only_landmarks = u.prior_only_eliminated;
 		sum.solve_seconds = seconds_since(ts);
 		sum.iterations = u.solver.iterations;
@@ -91,8 +90,10 @@ struct SlidingWindowEstimator::Impl
 		sum.down_weighted = graph.count_down_weighted(graph.reading_factors_leaving(o, leaving));
 		graph.expire_readings_at(o);
 		lagged.push_back(oldest.time, graph.pose(oldest.var));
-		const std::set<FactorId> removed = smoother().marginalize_oldest(leaving);
-		graph.forget_observations(removed);
+		if (oldest.var == graph.poses().front().var) initial_left = graph.pose(oldest.var);
+		const smoother::MarginalizationSummary m = smoother().marginalize_oldest(leaving);
+		sum.unevaluable_factors = m.unevaluable_factors;
+		graph.forget_observations(m.removed);
 		for (VariableId v : leaving)
 			if (graph.forget_landmark(v)) sum.marginalized_landmarks++;
 	}
@@ -103,8 +104,9 @@ struct SlidingWindowEstimator::Impl
 		const auto t0 = Clock::now();
 		StepSummary sum;
 		sum.step = step.index;
+		const auto before = graph.gauge_snapshot();
 		graph.add_step(step, sum);
-		solve(sum);
+		solve(sum, before);
 		online.push_back(step.time(), graph.pose(smoother().states().back().var));
 		if (smoother().over_lag())
 		{
@@ -159,6 +161,11 @@ std::map<std::int32_t, Eigen::Vector3d> SlidingWindowEstimator::landmarks() cons
 {
 	return impl_->graph.landmark_positions();
 }
+mrpt::poses::CPose3D SlidingWindowEstimator::initial_pose() const
+{
+	if (impl_->initial_left) return *impl_->initial_left;
+	return impl_->graph.pose(impl_->graph.poses().front().var);
+}
 const eval::Trajectory& SlidingWindowEstimator::online_trajectory() const { return impl_->online; }
 const eval::Trajectory& SlidingWindowEstimator::lagged_trajectory() const { return impl_->lagged; }
 const std::vector<StepSummary>& SlidingWindowEstimator::step_summaries() const { return impl_->summaries; }
@@ -170,6 +177,11 @@ ReadingCounts SlidingWindowEstimator::reading_counts() const
 }
 const SlidingWindowOptions& SlidingWindowEstimator::options() const { return impl_->graph.options(); }
 
+const smoother::MarginalPrior& SlidingWindowEstimator::marginal_prior() const
+{
+	return impl_->graph.smoother().prior();
+}
+
 Eigen::MatrixXd SlidingWindowEstimator::prior_information() const
 {
 	const Eigen::MatrixXd& J = impl_->graph.smoother().prior().J();
@@ -178,41 +190,22 @@ Eigen::MatrixXd SlidingWindowEstimator::prior_information() const
 
 Eigen::MatrixXd SlidingWindowEstimator::prior_gauge_directions() const
 {
-	const auto& sm = impl_->graph.smoother();
-	int n = 0;
-	for (VariableId v : sm.prior().variables()) n += sm.problem().variable(v).manifold->tangent_size();
-	Eigen::MatrixXd N = Eigen::MatrixXd::Zero(n, 6);
-	int off = 0;
+	const auto& graph = impl_->graph;
+	const auto& sm = graph.smoother();
+	std::vector<Eigen::MatrixXd> blocks;
+	Eigen::Index n = 0;
 	for (VariableId v : sm.prior().variables())
 	{
-		const auto& var = sm.problem().variable(v);
-		const double* x = sm.linearization_point(v);
-		// Rows in the base manifold's tangent coordinates (a planar variable keeps some of them).
-		const auto* sub = dynamic_cast<const SubspaceManifold*>(var.manifold.get());
-		const int base_size = sub ? sub->base()->tangent_size() : var.manifold->tangent_size();
-		Eigen::MatrixXd B = Eigen::MatrixXd::Zero(base_size, 6);
-		if (base_size == 6)
-		{
-			// The global motion p ↦ p + u + w × p as a right perturbation of T = [R | t]:
-			// δρ = Rᵀ(u + w × t), δω = Rᵀw.
-			const auto T = se3_view(x);
-			const Eigen::Matrix3d Rt = T.leftCols<3>().transpose();
-			B.block<3, 3>(0, 0) = Rt;
-			B.block<3, 3>(0, 3) = -Rt * skew(T.col(3));
-			B.block<3, 3>(3, 3) = Rt;
-		}
-		else if (impl_->graph.is_world_point(v))
-		{
-			const Eigen::Vector3d p(x[0], x[1], x[2]);
-			B.block<3, 3>(0, 0) = Eigen::Matrix3d::Identity();
-			B.block<3, 3>(0, 3) = -skew(p);
-		}
-		// An anchored inverse-depth landmark is relative to its anchor pose: invariant, zero rows.
-		for (int i = 0; i < var.manifold->tangent_size(); i++) N.row(off + i) = B.row(sub ? sub->coordinates()[i] : i);
-		off += var.manifold->tangent_size();
+		blocks.push_back(graph.gauge_directions(v, sm.linearization_point(v)));
+		n += blocks.back().rows();
 	}
-	// A planar model moves only along x, y and the yaw about z: the other motions are no gauge of it.
-	if (impl_->graph.model() == PoseModel::Planar) N.middleCols<3>(2).setZero();
+	Eigen::MatrixXd N(n, 6);
+	Eigen::Index off = 0;
+	for (const auto& B : blocks)
+	{
+		N.middleRows(off, B.rows()) = B;
+		off += B.rows();
+	}
 	return N;
 }
 
@@ -263,6 +256,7 @@ BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& opti
 	for (const auto& [id, lm] : graph.landmarks())
 		for (const auto& ob : lm.obs) readings.insert(ob.factor);
 	r.counts.down_weighted = static_cast<std::size_t>(graph.count_down_weighted(readings));
+	r.initial_pose = graph.pose(graph.poses().front().var);
 	for (std::size_t k = 1; k < graph.poses().size(); k++)
 		r.trajectory.push_back(graph.poses()[k].time, graph.pose(graph.poses()[k].var));
 	r.seconds = seconds_since(t0);
@@ -270,7 +264,7 @@ BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& opti
 }
 
 eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const SlidingWindowOptions& options,
-										 ReadingCounts* counts)
+										 ReadingCounts* counts, mrpt::poses::CPose3D* initial_pose)
 {
 	SlidingWindowOptions o = options;
 	o.window_size = 0;
@@ -288,6 +282,7 @@ eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const Sliding
 	}
 	est.finish();
 	if (counts) *counts = est.reading_counts();
+	if (initial_pose) *initial_pose = est.initial_pose();
 	return est.online_trajectory();
 }
 }  // namespace swba::estimators

@@ -39,8 +39,65 @@ Eigen::MatrixXd gather_columns(const Eigen::MatrixXd& J, const std::vector<int>&
 Eigen::MatrixXd gram(const Eigen::MatrixXd& A)
 {
 	Eigen::MatrixXd G = Eigen::MatrixXd::Zero(A.cols(), A.cols());
+	if (A.rows() == 0 || A.cols() == 0) return G;  // (Eigen's blocking divides by the depth)
 	G.selfadjointView<Eigen::Lower>().rankUpdate(A.transpose());
 	return Eigen::MatrixXd(G.selfadjointView<Eigen::Lower>());
+}
+
+/** Cholesky factor with diagonal pivoting on the updated diagonal (LAPACK's dpstrf scheme): Pᵀ H P =
+ * L Lᵀ + S, stopped as soon as the largest remaining diagonal of the Schur complement S is not above
+ * rel_threshold times the first (largest) pivot. H being semi-definite, its diagonal bounds S, so S
+ * is numerically zero: the factor is rank-revealing, unlike a pivoted LDLᵀ that chooses its pivots
+ * on the original diagonal (Eigen::LDLT), whose pivots after a tiny one are ratios of rounding noise.
+ * `scale` (if larger) replaces the first pivot as the reference: the magnitude of the system H came
+ * from, so that an H that is all rounding noise (a Schur complement that cancels) has rank 0. */
+struct PivotedCholesky
+{
+	Eigen::MatrixXd L;      ///< n × rank, lower trapezoidal (rows in pivot order)
+	std::vector<int> perm;  ///< row i of L is coordinate perm[i] of H
+	int rank = 0;
+};
+
+PivotedCholesky pivoted_cholesky(const Eigen::MatrixXd& H, double rel_threshold, double scale)
+{
+	const Eigen::Index n = H.rows();
+	PivotedCholesky c;
+	Eigen::MatrixXd A = H;  // rows/columns swapped along with perm; only its lower triangle is read
+	c.perm.resize(static_cast<std::size_t>(n));
+	for (Eigen::Index i = 0; i < n; i++) c.perm[static_cast<std::size_t>(i)] = static_cast<int>(i);
+	c.L.setZero(n, n);
+	Eigen::VectorXd d = A.diagonal();  // diagonal of the current Schur complement
+	double first = 0;
+	for (Eigen::Index k = 0; k < n; k++)
+	{
+		Eigen::Index j;
+		const double dj = d.tail(n - k).maxCoeff(&j);
+		j += k;
+		if (k == 0) first = std::max(dj, scale);
+		if (!(dj > 0) || !(dj > rel_threshold * first)) break;
+		if (j != k)
+		{
+			A.row(k).swap(A.row(j));
+			A.col(k).swap(A.col(j));
+			c.L.row(k).swap(c.L.row(j));
+			std::swap(d[k], d[j]);
+			std::swap(c.perm[static_cast<std::size_t>(k)], c.perm[static_cast<std::size_t>(j)]);
+		}
+		const double lkk = std::sqrt(dj);
+		c.L(k, k) = lkk;
+		const Eigen::Index rest = n - k - 1;
+		if (rest > 0)
+		{
+			// Left-looking column: L(k+1:, k) = (A(k+1:, k) − L(k+1:, :k) L(k, :k)ᵀ) / L(k, k).
+			c.L.col(k).tail(rest) = A.col(k).tail(rest);
+			c.L.col(k).tail(rest).noalias() -= c.L.bottomLeftCorner(rest, k) * c.L.row(k).head(k).transpose();
+			c.L.col(k).tail(rest) /= lkk;
+			d.tail(rest) -= c.L.col(k).tail(rest).cwiseAbs2();
+		}
+		c.rank = static_cast<int>(k) + 1;
+	}
+	c.L.conservativeResize(n, c.rank);
+	return c;
 }
 
 /** Throws unless `keep` and `marg` are disjoint, unrepeated indices into [0, n). */
@@ -92,48 +149,41 @@ MarginalizationResult marginalize(const Eigen::MatrixXd& H, const Eigen::VectorX
 	}
 	out.H = 0.5 * (out.H + out.H.transpose()).eval();
 
-	square_root_form(out, rel_threshold);
+	square_root_form(out, rel_threshold, Hkk.size() ? Hkk.diagonal().maxCoeff() : 0.0);
 	return out;
 }
 
-void square_root_form(MarginalizationResult& m, double rel_threshold)
+void square_root_form(MarginalizationResult& m, double rel_threshold, double scale)
 {
 	const int n = static_cast<int>(m.H.rows());
 	if (m.H.cols() != n || m.b.size() != n) throw std::invalid_argument("square_root_form: H must be n×n and b n");
-	// Square-root form from a pivoted LDLᵀ (H* = Pᵀ L D Lᵀ P): J = √D Lᵀ P, e = −√D⁻¹ L⁻¹ P b*, keeping
-	// the pivots above rel_threshold·max(D). An order of magnitude cheaper than an eigen-decomposition
-	// on the dense landmark priors of a SLAM window, and the same prior where nothing is truncated.
-	Eigen::LDLT<Eigen::MatrixXd> ldlt(m.H);
-	const Eigen::VectorXd D = ldlt.vectorD();
-	const double dmax = n ? std::max(D.maxCoeff(), 0.0) : 0.0;
-	const Eigen::MatrixXd L = ldlt.matrixL();
-	// Rows of Lᵀ P: (Lᵀ P)_i = (Pᵀ L)ᵀ_i.
-	Eigen::MatrixXd PtL = L;
-	PtL = ldlt.transpositionsP().transpose() * PtL;
-	Eigen::VectorXd Pb = ldlt.transpositionsP() * m.b;
-	const Eigen::VectorXd y = L.triangularView<Eigen::UnitLower>().solve(Pb);
-	std::vector<int> kept;
-	for (int i = 0; i < n; i++)
-		if (D[i] > rel_threshold * dmax && D[i] > 0) kept.push_back(i);
-	m.rank = static_cast<int>(kept.size());
-	m.J.resize(m.rank, n);
-	m.e.resize(m.rank);
-	for (int r = 0; r < m.rank; r++)
+	const PivotedCholesky c = pivoted_cholesky(m.H, rel_threshold, scale);
+	m.rank = c.rank;
+	// Pᵀ H* P ≈ L Lᵀ over the leading `rank` columns of L: J = Lᵀ Pᵀ (column perm[i] of J is row i of L)
+	// and Jᵀe = −b* on the kept coordinates, e = −L₁₁⁻¹ (Pᵀ b*)₁.
+	m.J.setZero(c.rank, n);
+	Eigen::VectorXd pb(c.rank);
+	for (int i = 0; i < n; i++) m.J.col(c.perm[i]) = c.L.row(i).head(c.rank).transpose();
+	for (int i = 0; i < c.rank; i++) pb[i] = m.b[c.perm[i]];
+	m.e = -(c.L.topLeftCorner(c.rank, c.rank).triangularView<Eigen::Lower>().solve(pb));
+	// The prior is the truncated quadratic ½‖e + J δ‖²: H and b are replaced by JᵀJ and −Jᵀe, so every
+	// form of the result describes the same cost (the untruncated H* differs from it by the dropped,
+	// numerically zero block, which need not be semi-definite).
+	if (c.rank < n)
 	{
-		const int i = kept[r];
-		const double s = std::sqrt(D[i]);
-		m.J.row(r) = s * PtL.col(i).transpose();
-		m.e[r] = -y[i] / s;
+		m.H = gram(m.J);
+		m.b = -(m.J.transpose() * m.e);
 	}
 }
 
 MarginalizationResult marginalize_leading(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,
-										  double threshold)
+										  double threshold, double scale)
 {
 	const int n = static_cast<int>(H.rows());
 	if (H.cols() != n || b.size() != n || num_keep < 0 || num_keep > n)
 		throw std::invalid_argument("marginalize_leading: H must be n×n, b n, 0 <= num_keep <= n");
 	const int nk = num_keep, nm = n - num_keep;
+	if (nk > 0) scale = std::max(scale, H.topLeftCorner(nk, nk).diagonal().maxCoeff());
 	MarginalizationResult out;
 	if (nm > 0)
 	{
@@ -150,16 +200,17 @@ MarginalizationResult marginalize_leading(const Eigen::MatrixXd& H, const Eigen:
 	}
 	out.H = 0.5 * (out.H + out.H.transpose()).eval();
 	// Square root: a blocked Cholesky when H* is well conditioned, else (rank-deficient H*, e.g. anchor
-	// poses of inverse-depth landmarks, doc/window.md) the truncated pivoted LDLᵀ on the same H*.
-	const auto ldlt_form = [&] {
-		square_root_form(out, threshold);
+	// poses of inverse-depth landmarks or a free gauge, doc/window.md) the truncated pivoted Cholesky
+	// of the same H*. Both cut relative to the kept block before elimination (`scale`).
+	const auto pivoted_form = [&] {
+		square_root_form(out, threshold, scale);
 		return out;
 	};
-	if (nk == 0) return ldlt_form();
+	if (nk == 0) return pivoted_form();
 	Eigen::LLT<Eigen::MatrixXd> llt(out.H);
-	if (llt.info() != Eigen::Success) return ldlt_form();
+	if (llt.info() != Eigen::Success) return pivoted_form();
 	const Eigen::VectorXd piv = llt.matrixLLT().diagonal().cwiseAbs2();
-	if (!(piv.minCoeff() > threshold * piv.maxCoeff())) return ldlt_form();
+	if (!(piv.minCoeff() > threshold * std::max(piv.maxCoeff(), scale))) return pivoted_form();
 	// ½‖e + J δ‖² = ½ δᵀ H* δ − b*ᵀ δ + const with J = Lᵀ, Jᵀe = −b*: e = −L⁻¹ b*.
 	out.J = llt.matrixU();
 	out.e = -(llt.matrixL().solve(out.b));
@@ -210,9 +261,10 @@ ConditionalElimination eliminate_conditional(PartitionedNormalEquations s, doubl
 	}
 	const Eigen::Index na = s.Haa.rows();
 	if (na == 0) return out;
+	const double scale = s.Haa.diagonal().maxCoeff();
 	s.Haa.noalias() -= s.Hpa.transpose() * out.K;
 	const Eigen::VectorXd b_red = s.ba - s.Hpa.transpose() * out.k;
-	out.marginal = marginalize_leading(s.Haa, b_red, static_cast<int>(na), threshold);
+	out.marginal = marginalize_leading(s.Haa, b_red, static_cast<int>(na), threshold, scale);
 	return out;
 }
 }  // namespace swba

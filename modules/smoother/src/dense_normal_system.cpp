@@ -64,7 +64,7 @@ class DenseNormalAssembler
 		}
 	}
 
-	/** Factor `f` linearised at the current values (skipped when it cannot be evaluated). */
+	/** Factor `f` linearised at the current values (skipped and counted when it cannot be evaluated). */
 	void add_factor(FactorId f)
 	{
 		const auto& fe = problem_.factor(f);
@@ -84,7 +84,11 @@ class DenseNormalAssembler
 			slot_[s] = offset_of(fe.variables[s]);
 		}
 		Eigen::VectorXd r(m);
-		if (!fe.factor->evaluate_whitened(xs_.data(), r.data(), jp_.data()) || !r.allFinite()) return;
+		if (!fe.factor->evaluate_whitened(xs_.data(), r.data(), jp_.data()) || !r.allFinite())
+		{
+			out_.unevaluable++;
+			return;
+		}
 		if (fe.loss) apply_loss(*fe.loss, m, r.data(), k, cols_.data(), jp_.data());
 		for (int s = 0; s < k; s++)
 		{

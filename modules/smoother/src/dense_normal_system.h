@@ -20,6 +20,9 @@ struct DenseNormalSystem
 	Eigen::MatrixXd H;
 	Eigen::VectorXd b;
 	std::vector<int> offsets;  ///< of each variable of `order` (size order.size() + 1)
+	/** Factors that could not be evaluated at the current values (residual undefined or not finite):
+	 * left out of H and b, so their information is lost. */
+	int unevaluable = 0;
 };
 
 /** `known_prior`: the installed marginal prior with known information (its factor is then taken from

@@ -70,7 +70,7 @@ UpdateSummary FixedLagSmoother::update(const std::function<bool(VariableId)>& el
 
 Summary FixedLagSmoother::solve(const SolverOptions& options) { return swba::solve(problem_, options); }
 
-std::set<FactorId> FixedLagSmoother::marginalize_oldest(const std::set<VariableId>& also)
+MarginalizationSummary FixedLagSmoother::marginalize_oldest(const std::set<VariableId>& also)
 {
 	std::set<VariableId> marg = also;
 	marg.insert(states_.front().var);
@@ -100,7 +100,14 @@ std::set<FactorId> FixedLagSmoother::marginalize_oldest(const std::set<VariableI
 	for (FactorId f : factors) problem_.remove_factor(f);
 	for (VariableId v : marg) remove_variable(v);
 	states_.pop_front();
-	prior_.reset(problem_, std::move(keep), std::move(m));
-	return factors;
+	// The new prior is stored around the first estimates of its variables (their current values without FEJ).
+	std::vector<std::vector<double>> x_lin;
+	for (VariableId v : keep)
+	{
+		const double* x = linearization_point(v);
+		x_lin.emplace_back(x, x + problem_.variable(v).manifold->ambient_size());
+	}
+	prior_.reset(problem_, std::move(keep), std::move(m), std::move(x_lin));
+	return {std::move(factors), sys.unevaluable};
 }
 }  // namespace swba::smoother

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <stdexcept>
 
 namespace swba::smoother
 {
@@ -20,23 +21,36 @@ int MarginalPrior::column_of(const Problem& problem, int index) const
 	return off;
 }
 
-void MarginalPrior::reset(Problem& problem, std::vector<VariableId> vars, MarginalizationResult m)
+void MarginalPrior::reset(Problem& problem, std::vector<VariableId> vars, MarginalizationResult m,
+						  std::vector<std::vector<double>> x_lin)
 {
 	if (m.rank == 0)
 	{
 		clear();
 		return;
 	}
-	std::vector<std::vector<double>> x_lin;
-	for (VariableId v : vars) x_lin.push_back(problem.variable(v).value);
+	if (x_lin.empty())
+		for (VariableId v : vars) x_lin.push_back(problem.variable(v).value);
+	if (x_lin.size() != vars.size()) throw std::invalid_argument("MarginalPrior::reset: one x_lin per variable");
+	// m is the quadratic in δ = x ⊟ x_cur; stored in d = x ⊟ x_lin, δ = d − (x_cur ⊟ x_lin) to first order:
+	// e ← e − J s and b ← b + H s with s = x_cur ⊟ x_lin (H is unchanged).
+	Eigen::VectorXd shift(m.J.cols());
+	int off = 0;
+	for (std::size_t i = 0; i < vars.size(); i++)
+	{
+		const auto& var = problem.variable(vars[i]);
+		var.manifold->minus(var.value.data(), x_lin[i].data(), shift.data() + off);
+		off += var.manifold->tangent_size();
+	}
+	if (off != m.J.cols()) throw std::invalid_argument("MarginalPrior::reset: J and the variables' sizes disagree");
 	if (installed()) problem.remove_factor(factor_);
 	factor_ = -1;
 	vars_ = std::move(vars);
+	e_ = m.e - m.J * shift;
 	J_ = std::move(m.J);
-	e_ = std::move(m.e);
 	x_lin_ = std::move(x_lin);
+	b_ = m.b + m.H * shift;
 	H_ = std::move(m.H);
-	b_ = std::move(m.b);
 	has_information_ = true;
 	install(problem);
 }

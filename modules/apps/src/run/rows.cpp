@@ -25,6 +25,18 @@ eval::Trajectory after_steps(const eval::Trajectory& t)
 	return out;
 }
 
+/** Under the free gauge nothing holds the initial pose at the origin, so the estimate is in a frame of
+ * its own: expressed relative to the estimator's own estimate of the initial pose (T₀⁻¹·T_k), it is
+ * in the frame the fixed gauge holds (initial pose = origin) and comparable with the other rows.
+ * Other gauges: unchanged. */
+eval::Trajectory in_gauge_frame(eval::Trajectory t, const estimators::SlidingWindowOptions& o,
+								const mrpt::poses::CPose3D& initial)
+{
+	if (o.gauge != GaugeMode::Free) return t;
+	for (auto& p : t.poses) p = p - initial;
+	return t;
+}
+
 std::string fej_name(bool fej) { return fej ? "fej" : "nofej"; }
 
 /** The EKF's sensor noise: the window's option if set, else the observation's own (given explicitly,
@@ -173,8 +185,8 @@ std::pair<RunRow, RunRow> run_window_rows(const RowContext& ctx, const estimator
 		total += seconds_since(t0);
 		online.step_summaries = est.step_summaries();
 		online.reading_counts = lagged.reading_counts = est.reading_counts();
-		online.estimate = after_steps(est.online_trajectory());
-		lagged.estimate = after_steps(est.lagged_trajectory());
+		online.estimate = after_steps(in_gauge_frame(est.online_trajectory(), wo, est.initial_pose()));
+		lagged.estimate = after_steps(in_gauge_frame(est.lagged_trajectory(), wo, est.initial_pose()));
 	}
 	catch (const std::exception& e)
 	{
@@ -242,7 +254,7 @@ RunRow run_batch_row(const RowContext& ctx, const estimators::SlidingWindowOptio
 						   "solving all " + std::to_string(n) + " steps at once...", n > 300, [&](RunRow& row) {
 							   estimators::BatchResult b =
 								   estimators::run_batch(ctx.rawlog, unbounded, ctx.options.batch_max_iterations);
-							   row.estimate = after_steps(b.trajectory);
+							   row.estimate = after_steps(in_gauge_frame(b.trajectory, unbounded, b.initial_pose));
 							   row.mean_iterations = b.summary.iterations;
 							   row.reading_counts = b.counts;
 							   if (!b.summary.is_solution_usable())
@@ -257,8 +269,10 @@ RunRow run_causal_row(const RowContext& ctx, const estimators::SlidingWindowOpti
 						   "re-solving the whole history after each of " + std::to_string(n) + " steps...", true,
 						   [&](RunRow& row) {
 							   estimators::ReadingCounts counts;
-							   row.estimate =
-								   after_steps(estimators::run_full_history_causal(ctx.rawlog, unbounded, &counts));
+							   mrpt::poses::CPose3D initial;
+							   const eval::Trajectory t =
+								   estimators::run_full_history_causal(ctx.rawlog, unbounded, &counts, &initial);
+							   row.estimate = after_steps(in_gauge_frame(t, unbounded, initial));
 							   row.reading_counts = counts;
 						   });
 }

@@ -25,6 +25,22 @@ RunReport empty_report(const io::Rawlog& rawlog)
 	return report;
 }
 
+/** A note when the window's marginalisation dropped factors it could not evaluate (their information
+ * is lost). */
+void note_unevaluable_factors(const RunRow& online, std::vector<std::string>& notes)
+{
+	long total = 0, steps = 0;
+	for (const auto& s : online.step_summaries)
+		if (s.unevaluable_factors > 0)
+		{
+			total += s.unevaluable_factors;
+			steps++;
+		}
+	if (total > 0)
+		notes.push_back(online.label + ": " + std::to_string(total) + " factors could not be evaluated when marginalised (at " +
+						std::to_string(steps) + " steps) and were dropped: their information is lost");
+}
+
 /** The window for each policy × FEJ × W: online and lagged rows. */
 void add_window_rows(const RowContext& ctx, RunReport& report)
 {
@@ -39,6 +55,7 @@ void add_window_rows(const RowContext& ctx, RunReport& report)
 				wo.policy = policy;
 				wo.first_estimate_jacobians = fej;
 				auto [online, lagged] = run_window_rows(ctx, wo, combos);
+				note_unevaluable_factors(online, report.notes);
 				report.rows.push_back(std::move(online));
 				report.rows.push_back(std::move(lagged));
 			}

@@ -24,6 +24,7 @@
 #include <swba/estimators/sensor_noise.h>
 #include <swba/nonlinear/gauge.h>
 #include <swba/nonlinear/solver.h>
+#include <swba/smoother/marginal_prior.h>
 
 #include <array>
 #include <cstdint>
@@ -167,6 +168,10 @@ struct StepSummary
 	int gated = 0;                  ///< readings held out by the χ² gate on arrival this step
 	int readmitted = 0;             ///< held readings that passed the gate after this step's solve and entered
 	int down_weighted = 0;          ///< readings that entered the marginal prior this step beyond the loss's scale
+	/** Factors the marginalisation could not evaluate at the current values (residual undefined or not
+	 * finite there): dropped with the marginalised variables, their information lost. Counted, never
+	 * silent: swba run reports the total as a note. */
+	int unevaluable_factors = 0;
 };
 
 /** What happened to the bearing-range readings of a run (totals; see SlidingWindowOptions::gate_readings). */
@@ -211,6 +216,9 @@ class SlidingWindowEstimator
 	/** Current landmark estimates (world XYZ) by landmark ID. */
 	std::map<std::int32_t, Eigen::Vector3d> landmarks() const;
 
+	/** The estimate of the initial pose (t = 0; the origin under the fixed gauge, free to move under
+	 * the others): its value when it left the window, or its current value while it is in it. */
+	mrpt::poses::CPose3D initial_pose() const;
 	/** Each pose as estimated right after its own step (t = k + 1). */
 	const eval::Trajectory& online_trajectory() const;
 	/** Each pose as estimated when it left the window (complete after finish()). */
@@ -221,6 +229,8 @@ class SlidingWindowEstimator
 	const SlidingWindowOptions& options() const;
 
 	/** Consistency diagnostics of the marginal prior (empty matrices while there is none). */
+	/** The marginal prior as stored: its square-root form (J, e, x_lin) and its information (H, b). */
+	const smoother::MarginalPrior& marginal_prior() const;
 	/** Its information H = JᵀJ over its variables, in their tangent coordinates. */
 	Eigen::MatrixXd prior_information() const;
 	/** The 6 global SE(3) motions (translation, rotation) as columns in the same coordinates, at the
@@ -249,9 +259,10 @@ class StepError : public std::invalid_argument
 struct BatchResult
 {
 	eval::Trajectory trajectory;
-	Summary summary;            ///< of the last solve round
-	int rounds = 1;             ///< solves (one more each time the gate changed the admitted readings)
+	Summary summary;                    ///< of the last solve round
+	int rounds = 1;                     ///< solves (one more each time the gate changed the admitted readings)
 	ReadingCounts counts;
+	mrpt::poses::CPose3D initial_pose;  ///< the initial pose's estimate (t = 0, not in `trajectory`)
 	double seconds = 0;
 };
 
@@ -263,7 +274,8 @@ BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& opti
 
 /** "Online, W = ∞": re-solves the whole history after every step and keeps the newest pose (the
  * causal optimum the online window trajectory is measured against). O(steps²): for evaluation.
- * Throws StepError for bad data at a step. */
+ * Throws StepError for bad data at a step. `counts` (optional) receives the run's reading counts,
+ * `initial_pose` (optional) the final estimate of the initial pose. */
 eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const SlidingWindowOptions& options,
-										 ReadingCounts* counts = nullptr);
+										 ReadingCounts* counts = nullptr, mrpt::poses::CPose3D* initial_pose = nullptr);
 }  // namespace swba::estimators

@@ -10,13 +10,19 @@
  * Numerics (why these decompositions): H_mm (small: the leaving pose and the landmarks leaving with
  * it) is inverted through a self-adjoint eigen-decomposition with the relative threshold, so a
  * rank-deficient marginalised block (an unobservable direction of the dropped variables) is
- * pseudo-inverted instead of blowing up. H* is symmetrised and factored by a pivoted LDLᵀ
- * (H* = Pᵀ L D Lᵀ P, Eigen::LDLT): J = √D Lᵀ P and e = −√D⁻¹ L⁻¹ P b* over the pivots
- * D_i > rel_threshold·max(D), so the prior claims no information along numerically unobservable
- * directions. LDLᵀ rather than an eigen-decomposition: H* is dense over all landmarks of a SLAM
- * window (hundreds of unknowns) and is re-factored at every step; LDLᵀ costs n³/3 against ~9n³ and
- * gives the same prior where nothing is truncated (basalt keeps a square-root form for the same
- * reason). */
+ * pseudo-inverted instead of blowing up. H* is symmetrised and kept in square-root form: J = Lᵀ from a
+ * Cholesky factor when H* is clearly positive definite, else from a rank-revealing pivoted Cholesky
+ * (Pᵀ H* P ≈ L Lᵀ, pivoting on the largest remaining diagonal, LAPACK's dpstrf scheme) stopped at the
+ * first pivot not above rel_threshold times the largest diagonal of the kept block before elimination:
+ * the prior claims no information along numerically unobservable directions (a free gauge, the
+ * anchor poses of inverse-depth landmarks), and a Schur complement that cancels to rounding noise
+ * has rank 0. When anything is truncated, the returned H and b are those of the truncated square
+ * root (H = JᵀJ, b = −Jᵀe): every form of the result describes one quadratic. Not Eigen's LDLᵀ: it
+ * pivots on the original diagonal, so after a numerically zero pivot its later pivots are ratios of
+ * rounding noise (measured on a SLAM prior: max|H − JᵀJ| = 151 with ‖H‖ ≈ 1e8). Not an
+ * eigen-decomposition: H* is dense over all landmarks of a SLAM window (hundreds of unknowns) and is
+ * re-factored at every step; a Cholesky costs n³/3 against ~9n³ (basalt keeps a square-root form for
+ * the same reason). */
 #pragma once
 
 #include <Eigen/Core>
@@ -26,9 +32,9 @@ namespace swba
 {
 struct MarginalizationResult
 {
-	Eigen::MatrixXd H;  ///< Schur complement H* over `keep` (symmetrised)
-	Eigen::VectorXd b;  ///< b* over `keep`
-	Eigen::MatrixXd J;  ///< rank × |keep| square-root information (JᵀJ = H up to truncation)
+	Eigen::MatrixXd H;  ///< Schur complement H* over `keep` (symmetrised); JᵀJ when truncated
+	Eigen::VectorXd b;  ///< b* over `keep`; −Jᵀe when truncated
+	Eigen::MatrixXd J;  ///< rank × |keep| square-root information (JᵀJ = H)
 	Eigen::VectorXd e;  ///< rank residual at the linearisation point
 	int rank = 0;       ///< pivots kept
 };
@@ -40,10 +46,12 @@ struct MarginalizationResult
  * where robustness to rank deficiency matters more than its ~9n³ cost. */
 Eigen::MatrixXd truncated_pseudo_inverse(const Eigen::MatrixXd& H, double rel_threshold);
 
-/** Fills m.J, m.e and m.rank from m.H, m.b (already symmetric) by the truncated pivoted LDLᵀ above; for
- * callers that form the Schur complement themselves (e.g. when a plain Cholesky square root fails on a
- * rank-deficient H*). Throws std::invalid_argument when H is not n×n or b not n. */
-void square_root_form(MarginalizationResult& m, double rel_threshold = 1e-12);
+/** Fills m.J, m.e and m.rank from m.H, m.b (already symmetric) by the truncated pivoted Cholesky above,
+ * and, when it truncates, replaces m.H and m.b by JᵀJ and −Jᵀe; for callers that form the Schur
+ * complement themselves. `scale`: the reference magnitude of the cut when larger than m.H's largest
+ * diagonal (the system m.H was reduced from). Throws std::invalid_argument when H is not n×n or b
+ * not n. */
+void square_root_form(MarginalizationResult& m, double rel_threshold = 1e-12, double scale = 0);
 
 /** Eliminates `marg` from (H, b); `keep` and `marg` are disjoint index lists into H (any index not
  * listed is ignored). H_mm through truncated_pseudo_inverse, the square root by square_root_form.
@@ -54,14 +62,15 @@ MarginalizationResult marginalize(const Eigen::MatrixXd& H, const Eigen::VectorX
 
 /** marginalize() for keep = the first `num_keep` coordinates of (H, b) and marg = the rest, with the
  * square root from a blocked Cholesky (Eigen::LLT; J = Lᵀ upper triangular in the given order,
- * e = −L⁻¹ b*) when H* is clearly positive definite (every pivot L_ii² above threshold·max): the same
- * prior as marginalize()'s pivoted LDLᵀ, faster on the dense priors of a SLAM window (hundreds of
- * unknowns; Eigen's LDLᵀ is unblocked). Otherwise (LLT fails or a pivot is tiny: a rank-deficient H*,
- * e.g. a free gauge or the anchor poses of inverse-depth landmarks, see doc/window.md) the square root
- * is square_root_form's truncated pivoted LDLᵀ of the same H* (the Schur complement is not redone).
- * Throws std::invalid_argument unless H is n×n, b n and 0 ≤ num_keep ≤ n. */
+ * e = −L⁻¹ b*) when H* is clearly positive definite (every pivot L_ii² above threshold times the
+ * larger of its largest pivot, `scale` and the largest diagonal of H's kept block): the same prior as
+ * marginalize(), faster on the dense priors of a SLAM window. Otherwise (LLT fails or a pivot is tiny:
+ * a rank-deficient H*, e.g. a free gauge or the anchor poses of inverse-depth landmarks, see
+ * doc/window.md) the square root is square_root_form's truncated pivoted Cholesky of the same H* (the
+ * Schur complement is not redone). Throws std::invalid_argument unless H is n×n, b n and
+ * 0 ≤ num_keep ≤ n. */
 MarginalizationResult marginalize_leading(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,
-										  double threshold);
+										  double threshold, double scale = 0);
 
 /** Normal equations split by two disjoint index sets: p (to be eliminated) and a (kept). */
 struct PartitionedNormalEquations
@@ -93,6 +102,7 @@ struct ConditionalElimination
 
 /** Eliminates p (Hpp non-empty) from `s`. Hpp⁻¹ is applied by a Cholesky solve when Hpp is clearly
  * positive definite (every pivot above threshold·max; a landmark observed with range and bearing
- * always is), else through truncated_pseudo_inverse (a rank-deficient block is cut, not inverted). */
+ * always is), else through truncated_pseudo_inverse (a rank-deficient block is cut, not inverted).
+ * The marginal's rank cut is relative to Haa before the elimination. */
 ConditionalElimination eliminate_conditional(PartitionedNormalEquations s, double threshold);
 }  // namespace swba

@@ -65,6 +65,15 @@ struct UpdateSummary
 	int prior_only_eliminated = 0;  ///< variables held out of the solve (eliminate_prior_only)
 };
 
+/** What marginalize_oldest() did. */
+struct MarginalizationSummary
+{
+	std::set<FactorId> removed;  ///< the factors replaced by the new prior
+	/** Of these, factors that could not be evaluated at the current values (their residual is undefined
+	 * there, e.g. a landmark behind its anchor): left out of the new prior, their information is lost. */
+	int unevaluable_factors = 0;
+};
+
 class FixedLagSmoother
 {
    public:
@@ -112,8 +121,8 @@ class FixedLagSmoother
 	/** Marginalises the oldest state together with `also` (variables leaving with it): the factors
 	 * touching them are linearised (the prior from its known information) at the first estimates,
 	 * the marginal over the variables they connect to replaces them as the new prior, and the
-	 * variables are removed. Returns the removed factors. */
-	std::set<FactorId> marginalize_oldest(const std::set<VariableId>& also);
+	 * variables are removed. The new prior is stored around the first estimates of its variables. */
+	MarginalizationSummary marginalize_oldest(const std::set<VariableId>& also);
 
    private:
 	FixedLagSmootherOptions opt_;

@@ -58,10 +58,16 @@ class MarginalPrior
 	/** First column of variable `index` in J (tangent sizes from the problem). */
 	int column_of(const Problem& problem, int index) const;
 
-	/** Replaces the prior by the marginal `m` over `vars` (linearised at their current values in the
-	 * problem, information known) and installs its factor; the previous factor, if still installed,
-	 * is removed. A zero-rank `m` leaves the prior empty. */
-	void reset(Problem& problem, std::vector<VariableId> vars, MarginalizationResult m);
+	/** Replaces the prior by the marginal `m` over `vars` and installs its factor; the previous factor,
+	 * if still installed, is removed. `m` is a quadratic in the offsets from the variables' current
+	 * values in the problem; it is stored around `x_lin` (one ambient value per variable; empty: the
+	 * current values), i.e. re-expressed to first order in x ⊟ x_lin: e − J s, b + H s with
+	 * s = x_current ⊟ x_lin. A smoother with first-estimate Jacobians passes the first estimates, so
+	 * the prior's point, its Jacobian and every factor's Jacobian agree (the prior's residual is then
+	 * invariant, to first order, under the motions its Jacobian is blind to). A zero-rank `m` leaves the
+	 * prior empty. Throws std::invalid_argument when the sizes disagree. */
+	void reset(Problem& problem, std::vector<VariableId> vars, MarginalizationResult m,
+			   std::vector<std::vector<double>> x_lin = {});
 	/** Empties the prior; its factor, if any, must already be gone from the problem. */
 	void clear();
 	/** Removes the prior's factor from the problem (the prior itself is kept). */

@@ -1,0 +1,188 @@
+// FixedLagSmoother on linear-Gaussian problems, where marginalisation is exact: the fixed-lag estimate
+// of the states still in the window, and their information, must equal the batch solution's. Runs the
+// smoother's own machinery (update(), marginalize_oldest(), the stored MarginalPrior and its factor).
+#include <gtest/gtest.h>
+#include <swba/nonlinear/linearization.h>
+#include <swba/smoother/fixed_lag_smoother.h>
+
+#include "linear_gaussian.h"
+
+#include <Eigen/Dense>
+#include <memory>
+
+using namespace swba;
+using namespace swba::smoother;
+
+namespace
+{
+/** Between factor x_j − x_i = d on 2-D states, standard deviation sigma. */
+std::shared_ptr<test::LinearFactor> between2(const Eigen::Vector2d& d, double sigma)
+{
+	Eigen::MatrixXd A(2, 4);
+	A << -1, 0, 1, 0, 0, -1, 0, 1;
+	auto f = std::make_shared<test::LinearFactor>(A, d, std::vector<int>{2, 2});
+	f->set_sigma(sigma);
+	return f;
+}
+
+/** The chain x0 … x(n−1) (2-D): a prior on x0, odometry-like steps and loops two states back. */
+struct Chain
+{
+	std::vector<Eigen::Vector2d> guess;
+	std::vector<std::pair<std::pair<int, int>, std::shared_ptr<test::LinearFactor>>> factors;  // (i, j), f
+	std::shared_ptr<test::LinearFactor> prior;
+};
+
+Chain make_chain(int n)
+{
+	Chain c;
+	for (int i = 0; i < n; i++) c.guess.emplace_back(0.9 * i + 0.05 * (i % 3), -0.1 * i);
+	c.prior = std::make_shared<test::LinearFactor>(Eigen::MatrixXd::Identity(2, 2), Eigen::Vector2d(0.5, 0.1),
+												   std::vector<int>{2});
+	c.prior->set_sigma(0.1);
+	for (int j = 1; j < n; j++)
+	{
+		c.factors.push_back({{j - 1, j}, between2(Eigen::Vector2d(1.0 + 0.1 * (j % 2), 0.2 * (j % 3) - 0.2), 0.2)});
+		if (j >= 2) c.factors.push_back({{j - 2, j}, between2(Eigen::Vector2d(2.05, 0.3 - 0.1 * j), 0.5)});
+	}
+	return c;
+}
+}  // namespace
+
+TEST(FixedLagSmoother, LinearGaussianChainEqualsBatchAfterMarginalising)
+{
+	const int n = 9, lag = 3;
+	const Chain c = make_chain(n);
+
+	// Batch: every state and factor, solved exactly (one Gauss-Newton step on a linear problem).
+	Problem batch;
+	std::vector<VariableId> bx;
+	for (const auto& g : c.guess) bx.push_back(batch.add_variable(g, euclidean_manifold(2)));
+	batch.add_factor(c.prior, {bx[0]});
+	for (const auto& [ij, f] : c.factors) batch.add_factor(f, {bx[ij.first], bx[ij.second]});
+	const DenseLinearSystem full = linearize_dense(batch, bx);
+	const Eigen::VectorXd x_batch = [&] {
+		Eigen::VectorXd x(2 * n);
+		for (int i = 0; i < n; i++) x.segment<2>(2 * i) = c.guess[i];
+		return Eigen::VectorXd(x + full.H.ldlt().solve(full.b));
+	}();
+	const Eigen::MatrixXd cov_batch = full.H.inverse();
+
+	// The smoother: one state at a time, update(), marginalise the oldest while over the lag.
+	FixedLagSmootherOptions opt;
+	opt.lag = lag;
+	opt.solver.max_iterations = 50;
+	opt.solver.function_tolerance = opt.solver.gradient_tolerance = opt.solver.parameter_tolerance = 1e-14;
+	FixedLagSmoother sm(opt);
+	std::vector<VariableId> x;
+	int marginalised = 0;
+	for (int j = 0; j < n; j++)
+	{
+		x.push_back(sm.problem().add_variable(c.guess[j], euclidean_manifold(2)));
+		sm.add_state(j, x.back());
+		if (j == 0) sm.add_factor(c.prior, {x[0]});
+		for (const auto& [ij, f] : c.factors)
+			if (ij.second == j) sm.add_factor(f, {x[ij.first], x[j]});
+		sm.update([](VariableId) { return false; });
+		while (sm.over_lag())
+		{
+			sm.marginalize_oldest({});
+			marginalised++;
+		}
+	}
+	ASSERT_EQ(marginalised, n - lag);
+	ASSERT_TRUE(sm.prior().installed());
+
+	// The states left in the window: the batch estimate, and the batch's marginal covariance.
+	std::vector<VariableId> window;
+	for (const auto& s : sm.states()) window.push_back(s.var);
+	ASSERT_EQ(window.size(), static_cast<std::size_t>(lag));
+	const int first = n - lag;
+	for (int i = 0; i < lag; i++)
+	{
+		const Eigen::Vector2d xi = Eigen::Map<const Eigen::Vector2d>(sm.problem().value(window[i]));
+		EXPECT_LT((xi - x_batch.segment<2>(2 * (first + i))).norm(), 1e-9) << "state " << first + i;
+	}
+	const DenseLinearSystem reduced = linearize_dense(sm.problem(), window);
+	const Eigen::MatrixXd cov_window = reduced.H.inverse();
+	const Eigen::MatrixXd cov_ref = cov_batch.bottomRightCorner(2 * lag, 2 * lag);
+	EXPECT_LT((cov_window - cov_ref).norm(), 1e-9 * cov_ref.norm());
+	// The batch optimum is the optimum of the window problem: its gradient vanishes there.
+	EXPECT_LT(reduced.b.norm(), 1e-6);
+}
+
+// The three-state chain x1 − x2 − x3 (σ = 0.1 between x1 and x2, a prior on x2 with σ = 0.2, σ = 0.3
+// between x2 and x3; linear, scalar) with its printed normal equations and the printed prior after
+// marginalising x2 through the smoother: [[26.5306, −8.16327], [−8.16327, 10.2041]] over (x1, x3).
+TEST(FixedLagSmoother, MarginalisingTheMiddleOfAThreeStateChainGivesThePrintedPrior)
+{
+	FixedLagSmootherOptions opt;
+	opt.lag = 2;
+	FixedLagSmoother sm(opt);
+	Problem& p = sm.problem();
+	const VariableId x2 = p.add_variable(Eigen::VectorXd::Constant(1, 0.3), euclidean_manifold(1));
+	const VariableId x1 = p.add_variable(Eigen::VectorXd::Constant(1, -0.2), euclidean_manifold(1));
+	const VariableId x3 = p.add_variable(Eigen::VectorXd::Constant(1, 0.7), euclidean_manifold(1));
+	for (VariableId v : {x2, x1, x3}) sm.add_state(0, v);
+	auto between = [](double sigma) {
+		auto f = std::make_shared<test::LinearFactor>(Eigen::RowVector2d(-1, 1), Eigen::VectorXd::Constant(1, 0.1),
+													  std::vector<int>{1, 1});
+		f->set_sigma(sigma);
+		return f;
+	};
+	auto prior = std::make_shared<test::LinearFactor>(Eigen::MatrixXd::Identity(1, 1), Eigen::VectorXd::Zero(1),
+													  std::vector<int>{1});
+	prior->set_sigma(0.2);
+	sm.add_factor(between(0.1), {x1, x2});
+	sm.add_factor(prior, {x2});
+	sm.add_factor(between(0.3), {x2, x3});
+
+	const DenseLinearSystem before = linearize_dense(p, {x1, x2, x3});
+	EXPECT_NEAR(before.H(0, 0), 100, 5e-4);
+	EXPECT_NEAR(before.H(1, 1), 136.111, 5e-4);
+	EXPECT_NEAR(before.H(1, 2), -11.1111, 5e-5);
+	EXPECT_NEAR(before.H(2, 2), 11.1111, 5e-5);
+
+	ASSERT_TRUE(sm.over_lag());
+	const MarginalizationSummary m = sm.marginalize_oldest({});
+	EXPECT_EQ(m.removed.size(), 3u);
+	EXPECT_EQ(m.unevaluable_factors, 0);
+	ASSERT_EQ(sm.prior().variables(), (std::vector<VariableId>{x1, x3}));
+	const Eigen::MatrixXd& H = sm.prior().H();
+	EXPECT_NEAR(H(0, 0), 26.5306, 5e-5);
+	EXPECT_NEAR(H(0, 1), -8.16327, 5e-6);
+	EXPECT_NEAR(H(1, 0), -8.16327, 5e-6);
+	EXPECT_NEAR(H(1, 1), 10.2041, 5e-5);
+	// The prior's factor in the problem is that quadratic.
+	const DenseLinearSystem after = linearize_dense(p, {x1, x3});
+	EXPECT_LT((after.H - H).norm(), 1e-9 * H.norm());
+}
+
+// A factor whose residual is undefined at the current values cannot enter the marginal prior: it is
+// counted, not silently dropped.
+TEST(FixedLagSmoother, MarginalisationCountsFactorsItCannotEvaluate)
+{
+	class Undefined final : public Factor
+	{
+	   public:
+		Undefined() : Factor(1, {1, 1}) {}
+		bool evaluate(const double* const*, double*, double* const*) const override { return false; }
+	};
+	FixedLagSmootherOptions opt;
+	opt.lag = 1 + 1;
+	FixedLagSmoother sm(opt);
+	Problem& p = sm.problem();
+	std::vector<VariableId> x;
+	for (int i = 0; i < 3; i++)
+	{
+		x.push_back(p.add_variable(Eigen::VectorXd::Constant(1, i), euclidean_manifold(1)));
+		sm.add_state(i, x.back());
+	}
+	auto f = std::make_shared<test::LinearFactor>(Eigen::RowVector2d(-1, 1), Eigen::VectorXd::Constant(1, 1.0),
+												  std::vector<int>{1, 1});
+	sm.add_factor(f, {x[0], x[1]});
+	sm.add_factor(std::make_shared<Undefined>(), {x[0], x[2]});
+	const MarginalizationSummary m = sm.marginalize_oldest({});
+	EXPECT_EQ(m.removed.size(), 2u);
+	EXPECT_EQ(m.unevaluable_factors, 1);
+}
