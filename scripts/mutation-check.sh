@@ -14,7 +14,8 @@ src=$work/src
 jobs=$(nproc 2>/dev/null || echo 2)
 
 rm -rf "$src" && mkdir -p "$src"
-git archive HEAD | tar -x -C "$src"
+# -m: files get the time of extraction, so the build never keeps an object of an earlier mutated copy.
+git archive HEAD | tar -x -m -C "$src"
 cmake -S "$src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DSWBA_BUILD_BENCH=OFF >/dev/null
 
 build() { cmake --build "$work/build" -j "$jobs" >"$work/build.log" 2>&1; }
