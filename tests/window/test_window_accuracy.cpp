@@ -81,6 +81,9 @@ TEST(WindowAccuracy, SensorOffTheRobotCentreStaysAsAccurateAsBatch)
 	std::printf("[accuracy] noncentred W=10 online %.6f lagged %.6f; batch %.6f\n", a.online, a.lagged, batch);
 	EXPECT_LT(a.lagged, 1.01 * batch);  // measured 0.995
 	EXPECT_LT(a.online, 1.05 * batch);  // measured 1.028
+	// Window and batch share the graph, so the ratios cannot see a sensor offset both ignore; MRPT's EKF
+	// diverges on this rawlog (step 74), so the absolute anchor is the batch's measured figure + 5 %.
+	EXPECT_LT(batch, 1.05 * 0.007958);
 }
 
 TEST(WindowAccuracy, ConstantTimePolicyKeepsItsMeasuredAccuracy)

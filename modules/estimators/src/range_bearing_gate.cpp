@@ -3,28 +3,71 @@
 #include "range_bearing_graph.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <limits>
 
 namespace swba::estimators::detail
 {
-double RangeBearingGraph::innovation_distance(const Eigen::Vector3d& p, std::size_t n, const Observation& o,
-											  const Eigen::MatrixXd* pose_cov) const
+bool RangeBearingGraph::reading_residual(const Eigen::Vector3d& p, const Observation& o, const double* pose_x,
+										 Eigen::VectorXd& r, RowMajorMatrix* JT) const
 {
 	const auto& P = poses_[o.pose_step];
 	const auto f = model_reading_factor(std::make_shared<RangeBearingXyzFactor>(o.z, P.sensor), o);
-	const int m = f->residual_dim();
-	const double* x[2] = {smoother_.problem().value(P.var), p.data()};
-	Eigen::VectorXd r(m);
-	// ∂h/∂T on the pose variable's tangent (6 in 6D, 3 planar), as pose_cov.
-	Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> JT(m, pose_cov ? pose_cov->rows() : 0);
-	double* jac[2] = {pose_cov ? JT.data() : nullptr, nullptr};
-	if (!f->evaluate(x, r.data(), jac) || !r.allFinite()) return std::numeric_limits<double>::infinity();
+	const double* x[2] = {pose_x ? pose_x : smoother_.problem().value(P.var), p.data()};
+	r.resize(f->residual_dim());
+	if (JT) JT->resize(f->residual_dim(), smoother_.problem().variable(P.var).manifold->tangent_size());
+	double* jac[2] = {JT ? JT->data() : nullptr, nullptr};
+	return f->evaluate(x, r.data(), jac) && r.allFinite();
+}
+
+double RangeBearingGraph::innovation_distance(const Eigen::Vector3d& p, std::size_t n, const Observation& o,
+											  const Eigen::MatrixXd* pose_cov, const double* pose_x) const
+{
+	Eigen::VectorXd r;
+	RowMajorMatrix JT;
+	if (!reading_residual(p, o, pose_x, r, pose_cov ? &JT : nullptr)) return std::numeric_limits<double>::infinity();
 	Eigen::MatrixXd S = reading_sigma(o).cwiseAbs2().asDiagonal();
 	S *= 1.0 + 1.0 / static_cast<double>(std::max<std::size_t>(n, 1));
 	if (pose_cov) S += JT * (*pose_cov) * JT.transpose();
 	return r.dot(S.ldlt().solve(r));
+}
+
+void RangeBearingGraph::centre_gate(const std::vector<std::pair<std::int32_t, Observation>>& readings)
+{
+	const VariableId v = poses_.back().var;
+	const Manifold& M = *smoother_.problem().variable(v).manifold;
+	const int d = M.tangent_size();
+	const double* x0 = smoother_.problem().value(v);
+	gate_centre_.assign(x0, x0 + M.ambient_size());
+	const Eigen::MatrixXd P_inv = newest_pose_cov_.inverse();
+	std::vector<double> next(gate_centre_.size());
+	Eigen::VectorXd delta(d), r;
+	RowMajorMatrix JT;
+	constexpr int kMaxIterations = 10;
+	for (int it = 0; it < kMaxIterations; it++)
+	{
+		M.minus(gate_centre_.data(), x0, delta.data());
+		Eigen::MatrixXd A = P_inv;
+		Eigen::VectorXd g = P_inv * delta;
+		for (const auto& [id, o] : readings)
+		{
+			const auto lm = landmarks_.find(id);
+			if (lm == landmarks_.end()) continue;
+			if (!reading_residual(world_position(lm->second), o, gate_centre_.data(), r, &JT)) continue;
+			const double n = static_cast<double>(std::max<std::size_t>(lm->second.obs.size(), 1));
+			const Eigen::VectorXd s_inv = reading_sigma(o).cwiseAbs2().cwiseInverse() / (1.0 + 1.0 / n);
+			const double w = 1.0 / (1.0 + r.dot(s_inv.cwiseProduct(r)) / gate_threshold_);  // Cauchy
+			A.noalias() += w * JT.transpose() * s_inv.asDiagonal() * JT;
+			g.noalias() += w * JT.transpose() * s_inv.cwiseProduct(r);
+		}
+		const Eigen::VectorXd step = -A.ldlt().solve(g);
+		if (!step.allFinite()) break;
+		M.plus(gate_centre_.data(), step.data(), next.data());
+		gate_centre_.swap(next);
+		if (step.norm() < 1e-10) break;
+	}
 }
 
 Eigen::Vector3d RangeBearingGraph::world_position(const Landmark& lm) const
@@ -35,9 +78,10 @@ Eigen::Vector3d RangeBearingGraph::world_position(const Landmark& lm) const
 	return inverse_depth_to_world(smoother_.problem().value(a.var), a.sensor, x);
 }
 
-double RangeBearingGraph::gate_distance(const Landmark& lm, const Observation& o, const Eigen::MatrixXd* pose_cov) const
+double RangeBearingGraph::gate_distance(const Landmark& lm, const Observation& o, const Eigen::MatrixXd* pose_cov,
+									   const double* pose_x) const
 {
-	return innovation_distance(world_position(lm), lm.obs.size(), o, pose_cov);
+	return innovation_distance(world_position(lm), lm.obs.size(), o, pose_cov, pose_x);
 }
 
 void RangeBearingGraph::admit_reading(std::int32_t id, const Observation& o, StepSummary& sum)
@@ -46,7 +90,7 @@ void RangeBearingGraph::admit_reading(std::int32_t id, const Observation& o, Ste
 	if (it != landmarks_.end())
 	{
 		Landmark& lm = it->second;
-		if (gate_distance(lm, o, &newest_pose_cov_) <= gate_threshold_)
+		if (gate_distance(lm, o, &newest_pose_cov_, gate_centre_.data()) <= gate_threshold_)
 			admit(lm, o);
 		else
 		{
@@ -63,7 +107,7 @@ void RangeBearingGraph::admit_reading(std::int32_t id, const Observation& o, Ste
 	{
 		const auto& C = poses_[c->pose_step];
 		const Eigen::Vector3d p = inverse_depth_to_world(problem.value(C.var), C.sensor, inverse_depth_from_measurement(c->z));
-		if (innovation_distance(p, 1, o, &newest_pose_cov_) > gate_threshold_) continue;
+		if (innovation_distance(p, 1, o, &newest_pose_cov_, gate_centre_.data()) > gate_threshold_) continue;
 		Landmark& lm = add_landmark(id, *c);
 		admit(lm, *c);
 		admit(lm, o);

@@ -199,18 +199,20 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 		sigma << opt_.sensor.resolve_range_yaw(step), 0.0;
 	else
 		sigma = opt_.sensor.resolve(step);
-	for (const auto& rd : step.readings)
+	std::vector<std::pair<std::int32_t, Observation>> readings;
+	for (const auto& rd : step.readings) readings.push_back({rd.landmark_id, {k, {rd.range, rd.yaw, rd.pitch}, sigma, -1}});
+	sum.readings += static_cast<int>(readings.size());
+	counts_.readings += readings.size();
+	if (gate_on_entry_) centre_gate(readings);
+	for (const auto& [id, o] : readings)
 	{
-		Observation o{k, {rd.range, rd.yaw, rd.pitch}, sigma, -1};
-		sum.readings++;
-		counts_.readings++;
 		if (gate_on_entry_)
 		{
-			admit_reading(rd.landmark_id, o, sum);
+			admit_reading(id, o, sum);
 			continue;
 		}
-		auto it = landmarks_.find(rd.landmark_id);
-		admit(it == landmarks_.end() ? add_landmark(rd.landmark_id, o) : it->second, o);
+		auto it = landmarks_.find(id);
+		admit(it == landmarks_.end() ? add_landmark(id, o) : it->second, o);
 	}
 }
 

@@ -164,14 +164,29 @@ class RangeBearingGraph
 	/** The χ² gate step of a reading on arrival (gate_on_entry): a reading of a known landmark enters
 	 * or is held; the first reading of a landmark waits for a consistent second one. */
 	void admit_reading(std::int32_t id, const Observation& o, StepSummary& sum);
+	using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+	/** Residual (reading_dof rows, not whitened) of reading `o` against world point `p` with its pose
+	 * at `pose_x` (null: the pose's current value), and optionally ∂r/∂T on the pose's tangent. */
+	bool reading_residual(const Eigen::Vector3d& p, const Observation& o, const double* pose_x, Eigen::VectorXd& r,
+						  RowMajorMatrix* JT) const;
 	/** Squared Mahalanobis distance of reading `o` (taken at pose step o.pose_step) against the world
-	 * point `p`, whose estimate averages `n` readings, at the current estimate. Innovation covariance:
-	 * the sensor noise R, the point's R/n (an approximation that avoids a marginal covariance), and the
-	 * pose's `pose_cov` (on the pose variable's tangent; null: none) through ∂h/∂T. reading_dof rows. */
+	 * point `p`, whose estimate averages `n` readings, with the pose at `pose_x` (null: its current
+	 * estimate). Innovation covariance: the sensor noise R, the point's R/n (an approximation that
+	 * avoids a marginal covariance), and the pose's `pose_cov` (on the pose variable's tangent; null:
+	 * none) through ∂h/∂T. reading_dof rows. */
 	double innovation_distance(const Eigen::Vector3d& p, std::size_t n, const Observation& o,
-							   const Eigen::MatrixXd* pose_cov) const;
+							   const Eigen::MatrixXd* pose_cov, const double* pose_x = nullptr) const;
 	/** innovation_distance of `o` against landmark `lm`'s current estimate. */
-	double gate_distance(const Landmark& lm, const Observation& o, const Eigen::MatrixXd* pose_cov) const;
+	double gate_distance(const Landmark& lm, const Observation& o, const Eigen::MatrixXd* pose_cov,
+						 const double* pose_x = nullptr) const;
+	/** Sets gate_centre_: the newest pose estimated from its odometry prediction (covariance
+	 * newest_pose_cov_) and the `readings` (landmark ID, reading) of landmarks already in the graph,
+	 * held at their estimates, under a Cauchy loss at the gate's radius (Gauss-Newton, ≤ 10
+	 * iterations). Gating at the dead-reckoned pose instead holds every good reading of a step whose
+	 * odometry drew a 3-4σ error (each reading then sits at the gate's edge, all sharing one pose
+	 * error), and the pose is left to odometry alone; the robust centre follows the readings' consensus
+	 * and a gross reading still falls outside. */
+	void centre_gate(const std::vector<std::pair<std::int32_t, Observation>>& readings);
 	/** World XYZ of landmark `lm` at the current estimate. */
 	Eigen::Vector3d world_position(const Landmark& lm) const;
 	/** Adds the factor of `o` to `lm` and records it as admitted. */
@@ -201,6 +216,8 @@ class RangeBearingGraph
 	/** Odometry covariance of the newest pose relative to the previous one, on the pose variable's
 	 * tangent (the inverse of its odometry factor's information), for the gate. */
 	Eigen::MatrixXd newest_pose_cov_;
+	/** The newest pose's value the gate tests its readings at (centre_gate). */
+	std::vector<double> gate_centre_;
 	ReadingCounts counts_;
 };
 }  // namespace swba::estimators::detail
