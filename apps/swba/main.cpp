@@ -15,31 +15,6 @@ std::map<std::string, Command>& command_registry()
 	return registry;
 }
 
-namespace
-{
-class OneLineOutput : public TCLAP::StdOutput
-{
-   public:
-	bool failed = false;
-	void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override
-	{
-		failed = true;
-		std::cerr << c.getProgramName() << ": error: " << e.error() << " [" << e.argId() << "]"
-				  << " (see --help)\n";
-	}
-};
-}  // namespace
-
-std::optional<int> parse_command_line(TCLAP::CmdLine& cmd, int argc, char** argv)
-{
-	OneLineOutput out;
-	cmd.setOutput(&out);
-	const bool ok = cmd.parse(argc, argv);
-	cmd.setOutput(nullptr);
-	if (ok) return std::nullopt;
-	return out.failed ? 2 : 0;
-}
-
 static void print_usage(std::ostream& os)
 {
 	os << "swba — sliding-window bundle adjustment and graph-SLAM back end on MRPT\n\n"
@@ -53,13 +28,15 @@ static void print_usage(std::ostream& os)
 int main(int argc, char** argv)
 {
 	using namespace swba::app;
-	if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") ||
-		!std::strcmp(argv[1], "help"))
+	const bool help = argc >= 2 && (!std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") ||
+									 !std::strcmp(argv[1], "help"));
+	if (argc < 2 || (help && argc == 2))
 	{
 		print_usage(argc < 2 ? std::cerr : std::cout);
 		return argc < 2 ? 2 : 0;
 	}
-	const std::string name = argv[1];
+	// "swba help <command>" = "swba <command> --help"; "swba --version" = "swba version".
+	const std::string name = help ? argv[2] : !std::strcmp(argv[1], "--version") ? "version" : argv[1];
 	auto& reg = command_registry();
 	auto it = reg.find(name);
 	if (it == reg.end())
@@ -71,7 +48,11 @@ int main(int argc, char** argv)
 	std::string prog = "swba " + name;
 	std::vector<char*> args;
 	args.push_back(prog.data());
-	for (int i = 2; i < argc; i++) args.push_back(argv[i]);
+	std::string help_flag = "--help";
+	if (help)
+		args.push_back(help_flag.data());
+	else
+		for (int i = 2; i < argc; i++) args.push_back(argv[i]);
 	try
 	{
 		return it->second.run(static_cast<int>(args.size()), args.data());

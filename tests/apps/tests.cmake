@@ -94,3 +94,26 @@ swba_run_case(planar_no_flags 0
 swba_run_case(every_estimator_failed 1
   REGEX "\nwindow W=5 +5 +online [^\n]*FAILED at step 0: step 0: sensor noise is not positive[^\n]*\n.*\nbatch +- +smoothed [^\n]*FAILED at step 0: step 0: sensor noise[^\n]*\n.*swba run: error: every estimator failed"
   ARGS ${_demo2d} --config ${_data}/model_6d.ini --no-ekf --windows 5 --no-plots --out ${_out}/every_estimator_failed)
+
+# Command-line conventions of every subcommand (apps/swba/cli.cpp, main.cpp; doc/cli.md).
+# swba_cli_case(<name> <exit code> REGEX <regex> ARGS <args...>): any subcommand, no output checks.
+function(swba_cli_case name rc)
+  cmake_parse_arguments(C "" "REGEX" "ARGS" ${ARGN})
+  string(REPLACE ";" "|" _cmd "$<TARGET_FILE:swba>;${C_ARGS}")
+  add_test(NAME apps.cli.${name}
+    COMMAND ${CMAKE_COMMAND} "-DCMD=${_cmd}" -DEXPECT_RC=${rc} "-DREGEX=${C_REGEX}" -P ${_check})
+endfunction()
+swba_cli_case(version_option 0 REGEX "^swba [0-9]+\\.[0-9]+\\.[0-9]+ \\(MRPT [0-9.]+, Eigen [0-9.]+\\)" ARGS --version)
+swba_cli_case(help_command 0 REGEX "swba run +\\[--gt <FILE>\\]" ARGS help run)
+swba_cli_case(unknown_option 2 REGEX "^swba run: error: unknown option '--bogus' \\(see --help\\)" ARGS run --bogus)
+swba_cli_case(unknown_short_option 2 REGEX "^swba ape: error: unknown option '-x'" ARGS ape -x a b)
+swba_cli_case(switch_given_a_value 2 REGEX "error: option '--no-ekf' takes no value" ARGS run --no-ekf=1)
+swba_cli_case(missing_value 2 REGEX "error: Missing a value for this argument! \\[Argument: \\(--windows\\)\\]"
+  ARGS run --windows)
+swba_cli_case(equals_form 0 REGEX "\\(3 steps\\)\nAPE not aligned"
+  ARGS run --max-steps=3 --windows=5 --no-ekf --no-batch --no-plots --no-progress --out=${_out}/cli_equals_form)
+# A value that starts with '-' is the option's value, not an unknown option.
+swba_cli_case(negative_value 1 REGEX "^swba ape: error: /nonexistent/ref.tum: cannot open file"
+  ARGS ape --t-offset -0.5 /nonexistent/ref.tum /nonexistent/est.tum)
+swba_cli_case(switch_run 1 REGEX "^swba ape: error: /nonexistent/ref.tum: cannot open file"
+  ARGS ape -as /nonexistent/ref.tum /nonexistent/est.tum)

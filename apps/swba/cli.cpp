@@ -1,0 +1,120 @@
+// Command-line parsing over MRPT's TCLAP, with the conventions TCLAP lacks: "--name=value", and an
+// error for an option no argument declares (TCLAP would hand "--bogus" to an optional positional).
+#include "cli.h"
+
+#include <cstdlib>
+#include <iostream>
+#include <vector>
+
+namespace swba::app
+{
+namespace
+{
+class OneLineOutput : public TCLAP::StdOutput
+{
+   public:
+	bool failed = false;
+	void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override
+	{
+		failed = true;
+		std::cerr << c.getProgramName() << ": error: " << e.error() << " [" << e.argId() << "]"
+				  << " (see --help)\n";
+	}
+};
+
+bool is_number(const std::string& s)
+{
+	char* end = nullptr;
+	std::strtod(s.c_str(), &end);
+	return !s.empty() && end == s.c_str() + s.size();
+}
+
+/** The argument of `cmd` that `option` ("--name" or "-f") names, or null. */
+TCLAP::Arg* find_option(TCLAP::CmdLine& cmd, const std::string& option)
+{
+	for (TCLAP::Arg* a : cmd.getArgList())
+	{
+		if (option.size() > 2 && option.compare(0, 2, "--") == 0 && a->getName() == option.substr(2)) return a;
+		if (option.size() == 2 && !a->getFlag().empty() && a->getFlag() == option.substr(1)) return a;
+	}
+	return nullptr;
+}
+
+/** Whether `option` ("-as") is a run of single-letter switches of `cmd` (TCLAP accepts those). */
+bool is_switch_run(TCLAP::CmdLine& cmd, const std::string& option)
+{
+	for (std::size_t i = 1; i < option.size(); i++)
+	{
+		const TCLAP::Arg* a = find_option(cmd, std::string("-") + option[i]);
+		if (!a || a->isValueRequired()) return false;
+	}
+	return true;
+}
+
+/** argv with "--name=value" split in two; an unknown option, or a value given to a switch, is an
+ * error message instead. An argument after a value-taking option is its value even if it starts
+ * with '-' (a negative offset); after "--" nothing is an option. */
+std::string normalise(TCLAP::CmdLine& cmd, int argc, char** argv, std::vector<std::string>& out)
+{
+	out.assign(argv, argv + std::min(argc, 1));
+	bool rest = false;
+	for (int i = 1; i < argc; i++)
+	{
+		std::string a = argv[i];
+		if (rest || a.size() < 2 || a[0] != '-' || is_number(a))
+		{
+			out.push_back(a);
+			continue;
+		}
+		if (a == "--")
+		{
+			rest = true;
+			out.push_back(a);
+			continue;
+		}
+		std::string value;
+		const std::size_t eq = a.compare(0, 2, "--") == 0 ? a.find('=') : std::string::npos;
+		if (eq != std::string::npos)
+		{
+			value = a.substr(eq + 1);
+			a.resize(eq);
+		}
+		const TCLAP::Arg* arg = find_option(cmd, a);
+		if (!arg && a.size() > 2 && a[1] != '-' && is_switch_run(cmd, a))
+		{
+			out.push_back(a);
+			continue;
+		}
+		if (!arg) return "unknown option '" + a + "'";
+		out.push_back(a);
+		if (eq != std::string::npos)
+		{
+			if (!arg->isValueRequired()) return "option '" + a + "' takes no value";
+			out.push_back(value);
+		}
+		else if (arg->isValueRequired() && i + 1 < argc)
+			out.push_back(argv[++i]);
+	}
+	return "";
+}
+}  // namespace
+
+std::optional<int> parse_command_line(TCLAP::CmdLine& cmd, int argc, char** argv)
+{
+	std::vector<std::string> args;
+	const std::string error = normalise(cmd, argc, argv, args);
+	if (!error.empty())
+	{
+		std::cerr << (argc > 0 ? argv[0] : "swba") << ": error: " << error << " (see --help)\n";
+		return 2;
+	}
+	std::vector<const char*> ptrs;
+	for (const auto& a : args) ptrs.push_back(a.c_str());
+	OneLineOutput out;
+	cmd.setOutput(&out);
+	const bool ok = cmd.parse(static_cast<int>(ptrs.size()), ptrs.data());
+	cmd.setOutput(nullptr);
+	if (ok) return std::nullopt;
+	return out.failed ? 2 : 0;
+}
+}  // namespace swba::app
