@@ -117,3 +117,14 @@ swba_cli_case(negative_value 1 REGEX "^swba ape: error: /nonexistent/ref.tum: ca
   ARGS ape --t-offset -0.5 /nonexistent/ref.tum /nonexistent/est.tum)
 swba_cli_case(switch_run 1 REGEX "^swba ape: error: /nonexistent/ref.tum: cannot open file"
   ARGS ape -as /nonexistent/ref.tum /nonexistent/est.tum)
+
+# The output directory is created and checked before any estimator runs: the full demo with the
+# causal optimum (minutes of estimation) must fail at once (TIMEOUT), naming the directory and why.
+swba_run_case(out_dir_not_creatable 1
+  REGEX "swba run: error: cannot create output directory '/proc/swba_out': "
+  ARGS --causal --windows 5,10,20,30 --no-plots --no-progress --out /proc/swba_out)
+set_tests_properties(runapp.e2e.out_dir_not_creatable PROPERTIES TIMEOUT 60)
+swba_run_case(out_dir_is_a_file 1
+  REGEX "swba run: error: output directory '[^']*/tests/CMakeLists.txt' exists and is not a directory"
+  ARGS --causal --windows 5,10,20,30 --no-plots --no-progress --out ${CMAKE_CURRENT_SOURCE_DIR}/CMakeLists.txt)
+set_tests_properties(runapp.e2e.out_dir_is_a_file PROPERTIES TIMEOUT 60)

@@ -6,8 +6,13 @@
 
 #include <mrpt/system/filesystem.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <ostream>
 #include <stdexcept>
+#include <unistd.h>
 
 namespace swba::apps
 {
@@ -127,6 +132,22 @@ RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
 	return report;
 }
 
+/** Creates `dir` and checks that a file can be created in it: a run must not spend its estimation
+ * time and then lose the results to a mistyped or read-only --out. */
+void prepare_output_directory(const std::string& dir)
+{
+	std::error_code ec;
+	if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
+		throw std::runtime_error("output directory '" + dir + "' exists and is not a directory");
+	std::filesystem::create_directories(dir, ec);
+	if (ec) throw std::runtime_error("cannot create output directory '" + dir + "': " + ec.message());
+	const std::string probe = dir + "/.swba_write_test." + std::to_string(::getpid());
+	std::FILE* f = std::fopen(probe.c_str(), "w");
+	if (!f) throw std::runtime_error("cannot write into output directory '" + dir + "': " + std::strerror(errno));
+	std::fclose(f);
+	std::remove(probe.c_str());
+}
+
 bool every_estimator_failed(const RunReport& report)
 {
 	for (const auto& r : report.rows)
@@ -152,6 +173,7 @@ RunReport run_app(const RunOptions& options, std::ostream& out, std::ostream& lo
 	std::vector<mrpt::poses::CPose3D> gt;
 	if (!gt_path.empty()) gt = eval::read_ground_truth_for(gt_path, rawlog.steps.size());
 	print_inputs(options, rawlog, gt_path, log);
+	prepare_output_directory(options.out_dir);
 
 	RunReport report = run_estimators(options, rawlog, gt, log);
 	report.ground_truth = gt_path;
