@@ -9,6 +9,9 @@ configure_package_config_file(${CMAKE_CURRENT_SOURCE_DIR}/cmake/swbaConfig.cmake
   ${CMAKE_CURRENT_BINARY_DIR}/swbaConfig.cmake INSTALL_DESTINATION ${SWBA_INSTALL_CMAKEDIR})
 write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/swbaConfigVersion.cmake
   COMPATIBILITY SameMinorVersion)
+# The INI files, rawlog recipes and small reference data; the installed swba finds them relative to its
+# own location (apps/swba/cli.cpp, share_dir) and names them in its --help.
+install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/share/ DESTINATION ${CMAKE_INSTALL_DATADIR}/swba)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/swbaConfig.cmake ${CMAKE_CURRENT_BINARY_DIR}/swbaConfigVersion.cmake
   ${CMAKE_CURRENT_SOURCE_DIR}/cmake/FindSwbaCholmod.cmake DESTINATION ${SWBA_INSTALL_CMAKEDIR})
 

@@ -3,6 +3,7 @@
 #include "cli.h"
 
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <vector>
 
@@ -98,6 +99,19 @@ std::string normalise(TCLAP::CmdLine& cmd, int argc, char** argv, std::vector<st
 	return "";
 }
 }  // namespace
+
+std::string share_dir()
+{
+	namespace fs = std::filesystem;
+	std::error_code ec;
+	const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+	if (!ec && exe.parent_path().filename() == fs::path(SWBA_INSTALL_BINDIR).filename())
+	{
+		const fs::path installed = exe.parent_path().parent_path() / SWBA_INSTALL_SHAREDIR;
+		if (fs::is_directory(installed, ec)) return installed.string();
+	}
+	return SWBA_SHARE_DIR;
+}
 
 std::optional<int> parse_command_line(TCLAP::CmdLine& cmd, int argc, char** argv)
 {

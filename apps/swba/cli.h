@@ -13,6 +13,10 @@ namespace swba::app
  * to return (0 after --help/--version, 2 after a parse error). */
 std::optional<int> parse_command_line(TCLAP::CmdLine& cmd, int argc, char** argv);
 
+/** swba's data directory (config/, rawlogs/, data/): <prefix>/share/swba for an installed swba (found
+ * from the executable's own path), else the source tree's share/. */
+std::string share_dir();
+
 /** `--threads N` of the solver commands: "threads for evaluation and assembly (default 1)". */
 inline TCLAP::ValueArg<int> threads_arg(TCLAP::CmdLine& cmd)
 {

@@ -38,7 +38,7 @@ struct RunCommandLine
 	TCLAP::ValueArg<std::string> out{"", "out", "output directory, created. (Default: swba_out)", false, "", "DIR"};
 	TCLAP::ValueArg<std::string> config{"", "config",
 										"INI file with options (sections [run] [window] [solver] [ekf] [sensor] [odometry]; "
-										"see share/config/swba_run.ini); unknown keys are errors",
+										"see " + swba::app::share_dir() + "/config/swba_run.ini); unknown keys are errors",
 										false, "", "INI"};
 	TCLAP::ValueArg<std::string> ekf_method{"", "ekf-method",
 											"MRPT EKF methods, comma-separated: kfEKFNaive, kfEKFAlaDavison, kfIKFFull, "
