@@ -198,3 +198,94 @@ TEST(RunAppErrors, NanReadingIsCountedAndTheRunCompletes)
 	ASSERT_EQ(batch.name, "batch");
 	EXPECT_NEAR(batch.estimate.poses.back().x(), 0.3 * 8, 1e-3);
 }
+
+namespace
+{
+/** A ground truth for write_synth's motion (0.3 m per step along x), `rows` rows. */
+void write_synth_ground_truth(const std::string& path, int rows)
+{
+	std::ofstream f(path);
+	for (int i = 0; i < rows; i++) f << 0.3 * i << " 0 0 0 0 0\n";
+}
+}  // namespace
+
+TEST(RunAppErrors, GroundTruthLongerThanTheRawlogIsWarnedAbout)
+{
+	// A plain rawlog cut at an object boundary reads as a complete shorter run; only the ground truth
+	// (here 20 rows for 8 steps) shows it.
+	const auto d = temp_dir();
+	const std::string path = (d / "short.rawlog").string();
+	write_synth(path, Synth{});
+	RunOptions o = quick_options(d, path);
+	o.ground_truth = (d / "gt.txt").string();
+	for (const int rows : {9, 10, 20})
+	{
+		write_synth_ground_truth(o.ground_truth, rows);
+		std::ostringstream out, log;
+		swba::apps::run_app(o, out, log);
+		const bool warned = log.str().find("warning: the ground truth has " + std::to_string(rows) +
+										   " rows but the rawlog only 8 steps") != std::string::npos;
+		EXPECT_EQ(warned, rows > 9) << rows << " rows:\n" << log.str();
+	}
+}
+
+TEST(RunAppErrors, InputsThatAreNotRegularFilesAreRefusedInOneLine)
+{
+	const auto d = temp_dir();
+	const std::string rawlog = (d / "ok.rawlog").string();
+	write_synth(rawlog, Synth{});
+	RunOptions o = quick_options(d, "/dev/zero");  // read forever before
+	std::string msg = run_error(o);
+	EXPECT_EQ(msg, "rawlog '/dev/zero': is not a regular file (a FIFO, device or socket)");
+	o = quick_options(d, d.string());
+	msg = run_error(o);
+	EXPECT_EQ(msg, "rawlog '" + d.string() + "': is a directory, not a file");
+	o = quick_options(d, rawlog);
+	o.ground_truth = "/dev/zero";
+	msg = run_error(o);
+	EXPECT_NE(msg.find("/dev/zero: is not a regular file"), std::string::npos) << msg;
+}
+
+TEST(RunAppErrors, ConfigWithoutAnySectionIsAnError)
+{
+	const auto d = temp_dir();
+	RunOptions o;
+	const std::string empty = (d / "empty.ini").string(), loose = (d / "loose.ini").string();
+	std::ofstream(empty) << "; only a comment\n";
+	std::ofstream(loose) << "windows = 5\n[run]\n";
+	try
+	{
+		swba::apps::load_run_config(empty, o);
+		ADD_FAILURE() << "an empty config was accepted";
+	}
+	catch (const std::exception& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("no section (expected some of [run]"), std::string::npos) << e.what();
+	}
+	try
+	{
+		swba::apps::load_run_config(loose, o);
+		ADD_FAILURE() << "a key before any section was accepted";
+	}
+	catch (const std::exception& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("key 'windows' before any [section]"), std::string::npos) << e.what();
+	}
+}
+
+TEST(RunAppErrors, MessagesNeverCarryRawFileBytes)
+{
+	// MRPT quotes the "class name" it read from a file that is no rawlog: control and high bytes must be
+	// escaped (\xNN), never copied to the terminal.
+	const auto d = temp_dir();
+	const std::string path = (d / "bytes.rawlog").string();
+	{
+		std::ofstream f(path, std::ios::binary);
+		// 0x85: an object whose class name has 5 bytes (MRPT's format), then ESC [ 2 0xff BEL.
+		const unsigned char b[] = {0x85, 0x1b, '[', '2', 0xff, 0x07, 0x00, 0x00, 0x00, 0x00};
+		for (int i = 0; i < 20; i++) f.write(reinterpret_cast<const char*>(b), sizeof(b));
+	}
+	const std::string msg = run_error(quick_options(d, path));
+	EXPECT_NE(msg.find("class '\\x1b[2\\xff\\x07'"), std::string::npos) << msg;
+	for (const unsigned char c : msg) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "byte " << int(c) << " in: " << msg;
+}

@@ -94,7 +94,10 @@ std::vector<double> parse_row(const std::string& line, const std::vector<const c
 std::ifstream open_input(const std::string& path)
 {
 	std::error_code ec;
-	if (std::filesystem::is_directory(path, ec)) throw TrajectoryFileError(path, 0, "is a directory, not a file");
+	const auto st = std::filesystem::status(path, ec);
+	if (st.type() == std::filesystem::file_type::directory) throw TrajectoryFileError(path, 0, "is a directory, not a file");
+	if (st.type() != std::filesystem::file_type::regular && st.type() != std::filesystem::file_type::not_found)
+		throw TrajectoryFileError(path, 0, "is not a regular file (a FIFO, device or socket)");
 	std::ifstream f(path);
 	if (!f) throw TrajectoryFileError(path, 0, "cannot open file");
 	return f;

@@ -1,5 +1,7 @@
 #include <swba/io/bal.h>
 
+#include <swba/core/file.h>
+
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -237,8 +239,7 @@ BalProblem parse_bal(const std::string& text, const std::string& source) { retur
 
 BalProblem read_bal(const std::string& path)
 {
-	std::ifstream f(path, std::ios::binary);
-	if (!f) throw std::runtime_error(path + ": cannot open");
+	std::ifstream f = open_input_file(path, std::ios::binary, "BAL file");
 	std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
 	if (f.bad()) throw std::runtime_error(path + ": read error");
 	if (text.size() >= 3 && text.compare(0, 3, "BZh") == 0)

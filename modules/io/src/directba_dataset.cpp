@@ -1,5 +1,7 @@
 #include <swba/io/directba_dataset.h>
 
+#include <swba/core/file.h>
+
 #include <mrpt/img/CImage.h>
 
 #include <Eigen/Geometry>
@@ -54,9 +56,7 @@ bool parse_numbers(const std::string& path, int line_no, const std::string& line
 std::ifstream open_or_throw(const std::string& path)
 {
 	if (!file_exists(path)) throw std::runtime_error(path + ": file not found");
-	std::ifstream f(path);
-	if (!f) throw std::runtime_error(path + ": cannot open for reading");
-	return f;
+	return open_input_file(path);
 }
 }  // namespace
 

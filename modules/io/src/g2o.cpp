@@ -1,6 +1,8 @@
 // g2o pose-graph reader and writer.
 #include <swba/io/g2o.h>
 
+#include <swba/core/file.h>
+
 #include <Eigen/Cholesky>
 #include <cerrno>
 #include <cmath>
@@ -242,8 +244,7 @@ std::string PoseGraph::skipped_summary() const
 
 PoseGraph read_g2o(const std::string& path)
 {
-	std::ifstream in(path);
-	if (!in) throw std::runtime_error("cannot open g2o file '" + path + "'");
+	std::ifstream in = open_input_file(path, std::ios::in, "g2o file");
 	return read_g2o(in, path);
 }
 

@@ -1,5 +1,7 @@
 #include <swba/io/rawlog.h>
 
+#include <swba/core/file.h>
+
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CActionRobotMovement3D.h>
@@ -321,9 +323,7 @@ void Reader::check_contents() const
 Rawlog Reader::run()
 {
 	const std::string& path = out_.path;
-	if (path.empty()) throw std::runtime_error("rawlog: empty file name");
-	if (!mrpt::system::fileExists(path)) fail("file does not exist");
-	if (mrpt::system::directoryExists(path)) fail("is a directory, not a rawlog file");
+	check_input_file(path, "rawlog");
 
 	mrpt::io::CFileGZInputStream f;
 	std::string open_error;
@@ -370,8 +370,22 @@ std::string mrpt_exception_summary(const std::string& what)
 		else if (first.empty() && line.rfind("====", 0) != 0)
 			first = line;
 	}
-	if (!message.empty()) return location.empty() ? message : message + " (" + location + ")";
-	return first.empty() ? what : first;
+	std::string summary = first.empty() ? what : first;
+	if (!message.empty()) summary = location.empty() ? message : message + " (" + location + ")";
+	// MRPT quotes what it read (a class name from a corrupt file): never print raw bytes.
+	std::string out;
+	for (const unsigned char c : summary)
+	{
+		if (c >= 0x20 && c < 0x7f)
+			out += static_cast<char>(c);
+		else
+		{
+			char esc[5];
+			std::snprintf(esc, sizeof(esc), "\\x%02x", c);
+			out += esc;
+		}
+	}
+	return out;
 }
 
 RawlogStep RawlogStepConverter::convert(const CActionCollection::Ptr& acts, const CSensoryFrame::Ptr& sf,

@@ -1,5 +1,6 @@
 #include <swba/estimators/ekf_slam.h>
 #include <swba/apps/run_options.h>
+#include <swba/core/file.h>
 
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
@@ -183,9 +184,18 @@ void apply_config(const mrpt::config::CConfigFileBase& cfg, const std::string& s
 
 	std::vector<std::string> sections;
 	cfg.getAllSections(sections);
+	std::size_t known_found = 0;
 	for (const auto& section : sections)
 	{
-		if (trim(section).empty()) continue;  // keys before any section header
+		if (trim(section).empty())
+		{
+			std::vector<std::string> keys;
+			cfg.getAllKeys(section, keys);
+			if (!keys.empty())
+				throw std::runtime_error("config '" + source + "': key '" + keys.front() + "' before any [section]");
+			continue;
+		}
+		known_found++;
 		if (std::find(known_sections.begin(), known_sections.end(), section) == known_sections.end())
 			throw std::runtime_error("config '" + source + "': unknown section [" + section +
 									 "] (known sections: " + join(known_sections, ", ") + ")");
@@ -218,12 +228,15 @@ void apply_config(const mrpt::config::CConfigFileBase& cfg, const std::string& s
 			}
 		}
 	}
+	// An empty file (or one of comments only) is almost always the wrong file: say so.
+	if (known_found == 0)
+		throw std::runtime_error("config '" + source + "': no section (expected some of [" + join(known_sections, "], [") + "])");
 }
 }  // namespace
 
 void load_run_config(const std::string& path, RunOptions& options)
 {
-	if (!mrpt::system::fileExists(path)) throw std::runtime_error("config '" + path + "': file does not exist");
+	check_input_file(path, "config");
 	mrpt::config::CConfigFile cfg(path);
 	apply_config(cfg, path, options);
 }

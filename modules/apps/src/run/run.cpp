@@ -172,6 +172,12 @@ RunReport run_app(const RunOptions& options, std::ostream& out, std::ostream& lo
 	}
 	std::vector<mrpt::poses::CPose3D> gt;
 	if (!gt_path.empty()) gt = eval::read_ground_truth_for(gt_path, rawlog.steps.size());
+	// A rawlog cut short (a plain, uncompressed rawlog truncated at an object boundary reads as a
+	// complete shorter one) shows only here: the ground truth outlives it.
+	if (!options.max_steps && gt.size() > rawlog.steps.size() + 1)
+		log << "swba run: warning: the ground truth has " << gt.size() << " rows but the rawlog only "
+			<< rawlog.steps.size() << " steps (" << rawlog.steps.size() + 1
+			<< " rows used): is the rawlog cut short, or the ground truth another run's?\n";
 	print_inputs(options, rawlog, gt_path, log);
 	prepare_output_directory(options.out_dir);
 
