@@ -3,14 +3,15 @@
 #include <swba/eval/ground_truth.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
-#include <cctype>
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <map>
-#include <memory>
 #include <random>
+#include <sstream>
 
 namespace
 {
@@ -42,157 +43,14 @@ std::vector<CPose3D> random_path(std::size_t n, unsigned seed)
 	return rows;
 }
 
-// --- A minimal JSON reader, enough to check the shape of summary.json. ---
-struct Json
-{
-	enum Type
-	{
-		Null,
-		Bool,
-		Number,
-		String,
-		Array,
-		Object
-	} type = Null;
-	bool b = false;
-	double num = 0;
-	std::string str;
-	std::vector<Json> arr;
-	std::map<std::string, Json> obj;
-	std::vector<std::string> keys;	// object keys in order
-	const Json& operator[](const std::string& k) const
-	{
-		static const Json missing;
-		auto it = obj.find(k);
-		return it == obj.end() ? missing : it->second;
-	}
-	bool has(const std::string& k) const { return obj.count(k) > 0; }
-};
+using Json = nlohmann::ordered_json;
 
-struct JsonParser
+/** The keys of a JSON object, in the file's order. */
+std::vector<std::string> keys_of(const Json& j)
 {
-	const std::string& s;
-	std::size_t i = 0;
-	void ws()
-	{
-		while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) i++;
-	}
-	void expect(char c)
-	{
-		ws();
-		if (i >= s.size() || s[i] != c) throw std::runtime_error(std::string("JSON: expected '") + c + "' at " + std::to_string(i));
-		i++;
-	}
-	std::string string_literal()
-	{
-		expect('"');
-		std::string out;
-		while (i < s.size() && s[i] != '"')
-		{
-			if (s[i] == '\\')
-			{
-				i++;
-				if (s[i] == 'u')
-				{
-					out += '?';
-					i += 4;
-				}
-				else
-					out += s[i] == 'n' ? '\n' : s[i];
-				i++;
-			}
-			else
-				out += s[i++];
-		}
-		expect('"');
-		return out;
-	}
-	Json value()
-	{
-		ws();
-		Json j;
-		if (i >= s.size()) throw std::runtime_error("JSON: unexpected end");
-		const char c = s[i];
-		if (c == '{')
-		{
-			j.type = Json::Object;
-			i++;
-			ws();
-			if (s[i] == '}')
-			{
-				i++;
-				return j;
-			}
-			for (;;)
-			{
-				const std::string k = string_literal();
-				expect(':');
-				if (j.obj.count(k)) throw std::runtime_error("JSON: duplicate key " + k);
-				j.obj[k] = value();
-				j.keys.push_back(k);
-				ws();
-				if (s[i] == ',')
-				{
-					i++;
-					continue;
-				}
-				expect('}');
-				return j;
-			}
-		}
-		if (c == '[')
-		{
-			j.type = Json::Array;
-			i++;
-			ws();
-			if (s[i] == ']')
-			{
-				i++;
-				return j;
-			}
-			for (;;)
-			{
-				j.arr.push_back(value());
-				ws();
-				if (s[i] == ',')
-				{
-					i++;
-					continue;
-				}
-				expect(']');
-				return j;
-			}
-		}
-		if (c == '"')
-		{
-			j.type = Json::String;
-			j.str = string_literal();
-			return j;
-		}
-		for (const char* lit : {"null", "true", "false"})
-			if (s.compare(i, std::strlen(lit), lit) == 0)
-			{
-				i += std::strlen(lit);
-				j.type = lit[0] == 'n' ? Json::Null : Json::Bool;
-				j.b = lit[0] == 't';
-				return j;
-			}
-		std::size_t used = 0;
-		j.num = std::stod(s.substr(i, 40), &used);
-		if (used == 0) throw std::runtime_error("JSON: bad value at " + std::to_string(i));
-		j.type = Json::Number;
-		i += used;
-		return j;
-	}
-};
-
-Json parse_json(const std::string& text)
-{
-	JsonParser p{text};
-	Json j = p.value();
-	p.ws();
-	if (p.i != text.size()) throw std::runtime_error("JSON: trailing text");
-	return j;
+	std::vector<std::string> keys;
+	for (const auto& item : j.items()) keys.push_back(item.key());
+	return keys;
 }
 
 /** A report with one row of each kind (EKF failed, window online/lagged, batch). */
@@ -341,55 +199,82 @@ TEST(RunGroundTruth, TooShortOrWrongColumnsAreErrorsNamingTheFile)
 TEST(RunSummaryJson, ShapeOfTheIssueExample)
 {
 	const RunReport rep = sample_report();
-	const Json j = parse_json(swba::apps::format_summary_json(rep));
-	ASSERT_EQ(j.type, Json::Object);
-	EXPECT_EQ(j["rawlog"].str, rep.rawlog);
-	EXPECT_EQ(j["steps"].num, 11.0);
-	ASSERT_EQ(j["estimators"].type, Json::Array);
-	ASSERT_EQ(j["estimators"].arr.size(), 4u);
+	const Json j = Json::parse(swba::apps::format_summary_json(rep));
+	ASSERT_TRUE(j.is_object());
+	EXPECT_EQ(keys_of(j), (std::vector<std::string>{"rawlog", "ground_truth", "steps", "landmarks", "estimators"}));
+	EXPECT_EQ(j["rawlog"], rep.rawlog);	 // quotes in the path survive the escaping
+	EXPECT_EQ(j["ground_truth"], rep.ground_truth);
+	EXPECT_EQ(j["steps"], 11);
+	ASSERT_TRUE(j["estimators"].is_array());
+	ASSERT_EQ(j["estimators"].size(), 4u);
 	const std::vector<std::string> stats = {"rmse", "mean", "median", "max", "min", "sse", "std"};
+	const std::vector<std::string> row_keys = {"name", "label", "window", "trajectory", "policy", "fej", "method", "file",
+											   "poses", "ape_trans", "ape_full", "seconds", "ms_per_step",
+											   "steps_processed", "readings", "failed", "failed_step", "failure"};
 	for (std::size_t i = 0; i < rep.rows.size(); i++)
 	{
-		const Json& e = j["estimators"].arr[i];
+		const Json& e = j["estimators"][i];
 		const RunRow& r = rep.rows[i];
-		for (const char* k : {"name", "window", "trajectory", "ape_trans", "ape_full", "seconds", "ms_per_step",
-							  "policy", "fej", "method", "failed", "failure"})
-			EXPECT_TRUE(e.has(k)) << r.label << ": no key " << k;
-		EXPECT_EQ(e["name"].str, r.name);
-		EXPECT_EQ(e["trajectory"].str, r.trajectory);
+		EXPECT_EQ(keys_of(e), row_keys) << r.label;
+		EXPECT_EQ(e["name"], r.name);
+		EXPECT_EQ(e["trajectory"], r.trajectory);
 		if (r.name == "window")
 		{
-			EXPECT_EQ(e["window"].type, Json::Number);
-			EXPECT_EQ(e["window"].num, 10.0);
-			EXPECT_EQ(e["policy"].str, "slam");
-			EXPECT_EQ(e["fej"].type, Json::Bool);
+			EXPECT_EQ(e["window"], 10);
+			EXPECT_EQ(e["policy"], "slam");
+			EXPECT_EQ(e["fej"], true);
 		}
 		else
 		{
-			EXPECT_EQ(e["window"].type, Json::Null) << r.label;
-			EXPECT_EQ(e["fej"].type, Json::Null) << r.label;
+			EXPECT_TRUE(e["window"].is_null()) << r.label;
+			EXPECT_TRUE(e["fej"].is_null()) << r.label;
 		}
-		EXPECT_EQ(e["failed"].b, r.failed);
+		EXPECT_EQ(e["failed"], r.failed);
 		if (r.has_ape)
 		{
 			for (const char* part : {"ape_trans", "ape_full"})
 			{
-				ASSERT_EQ(e[part].type, Json::Object);
-				EXPECT_EQ(e[part].keys, stats) << part;
+				ASSERT_TRUE(e[part].is_object());
+				EXPECT_EQ(keys_of(e[part]), stats) << part;
 			}
-			EXPECT_NEAR(e["ape_trans"]["rmse"].num, r.ape_trans.rmse, 1e-15);
-			EXPECT_NEAR(e["ape_full"]["max"].num, r.ape_full.max, 1e-15);
-			EXPECT_EQ(e["failure"].type, Json::Null);
+			EXPECT_EQ(e["ape_trans"]["rmse"].get<double>(), r.ape_trans.rmse);	// round trip: the same double
+			EXPECT_EQ(e["ape_full"]["max"].get<double>(), r.ape_full.max);
+			EXPECT_TRUE(e["failure"].is_null());
+			EXPECT_TRUE(e["failed_step"].is_null());
 		}
 		else
 		{
-			EXPECT_EQ(e["ape_trans"].type, Json::Null);
-			EXPECT_EQ(e["failure"].str, "Vehicle pose quaternion norm is not >0");
-			EXPECT_EQ(e["failed_step"].num, 7.0);
-			EXPECT_EQ(e["method"].str, "kfEKFNaive");
+			EXPECT_TRUE(e["ape_trans"].is_null());
+			EXPECT_EQ(e["failure"], "Vehicle pose quaternion norm is not >0");
+			EXPECT_EQ(e["failed_step"], 7);
+			EXPECT_EQ(e["method"], "kfEKFNaive");
 		}
-		EXPECT_NEAR(e["ms_per_step"].num, r.ms_per_step, 1e-15);
+		EXPECT_EQ(e["poses"], r.estimate.size());
+		EXPECT_EQ(e["ms_per_step"].get<double>(), r.ms_per_step);
 	}
+}
+
+TEST(RunSummaryJson, NoGroundTruthAndNonFiniteTimesAreNull)
+{
+	RunReport rep = sample_report();
+	rep.ground_truth.clear();
+	rep.rows[1].seconds = std::nan("");
+	rep.rows[1].ms_per_step = HUGE_VAL;
+	const Json j = Json::parse(swba::apps::format_summary_json(rep));
+	EXPECT_TRUE(j["ground_truth"].is_null());
+	EXPECT_TRUE(j["estimators"][1]["seconds"].is_null());
+	EXPECT_TRUE(j["estimators"][1]["ms_per_step"].is_null());
+	EXPECT_EQ(j["estimators"][2]["seconds"].get<double>(), 0.011);
+}
+
+TEST(RunSummaryJson, BytesThatAreNotUtf8StillGiveValidJson)
+{
+	RunReport rep = sample_report();
+	rep.rawlog = "/data/caf\xe9.rawlog";	 // Latin-1 é
+	rep.rows[0].failure = "bad byte \xff";
+	const Json j = Json::parse(swba::apps::format_summary_json(rep));
+	EXPECT_EQ(j["rawlog"], "/data/caf\xef\xbf\xbd.rawlog");  // U+FFFD in its place
+	EXPECT_EQ(j["estimators"][0]["failure"], "bad byte \xef\xbf\xbd");
 }
 
 TEST(RunTable, OneRowPerEstimatorWithFailures)
@@ -463,16 +348,16 @@ TEST(RunSummaryJson, ReadingCountsPerEstimator)
 	c.excluded = 6;
 	c.down_weighted = 3;
 	rep.rows[1].reading_counts = c;
-	const Json j = parse_json(swba::apps::format_summary_json(rep));
-	const Json& with = j["estimators"].arr[1];
-	ASSERT_EQ(with["readings"].type, Json::Object);
-	EXPECT_EQ(with["readings"].keys,
+	const Json j = Json::parse(swba::apps::format_summary_json(rep));
+	const Json& with = j["estimators"][1];
+	ASSERT_TRUE(with["readings"].is_object());
+	EXPECT_EQ(keys_of(with["readings"]),
 			  (std::vector<std::string>{"processed", "gated", "readmitted", "unconfirmed", "excluded", "down_weighted"}));
-	EXPECT_EQ(with["readings"]["processed"].num, 100.0);
-	EXPECT_EQ(with["readings"]["gated"].num, 7.0);
-	EXPECT_EQ(with["readings"]["readmitted"].num, 2.0);
-	EXPECT_EQ(with["readings"]["unconfirmed"].num, 1.0);
-	EXPECT_EQ(with["readings"]["excluded"].num, 6.0);
-	EXPECT_EQ(with["readings"]["down_weighted"].num, 3.0);
-	EXPECT_EQ(j["estimators"].arr[0]["readings"].type, Json::Null);
+	EXPECT_EQ(with["readings"]["processed"], 100);
+	EXPECT_EQ(with["readings"]["gated"], 7);
+	EXPECT_EQ(with["readings"]["readmitted"], 2);
+	EXPECT_EQ(with["readings"]["unconfirmed"], 1);
+	EXPECT_EQ(with["readings"]["excluded"], 6);
+	EXPECT_EQ(with["readings"]["down_weighted"], 3);
+	EXPECT_TRUE(j["estimators"][0]["readings"].is_null());
 }

@@ -2,6 +2,8 @@
 #include "swba/eval/report.h"
 #include "swba/eval/text_format.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -12,40 +14,6 @@
 
 namespace swba::eval
 {
-std::string json_string(const std::string& s)
-{
-	std::string out = "\"";
-	for (unsigned char c : s)
-	{
-		switch (c)
-		{
-			case '"': out += "\\\""; break;
-			case '\\': out += "\\\\"; break;
-			case '\n': out += "\\n"; break;
-			case '\t': out += "\\t"; break;
-			case '\r': out += "\\r"; break;
-			default:
-				if (c < 0x20)
-				{
-					char buf[8];
-					std::snprintf(buf, sizeof(buf), "\\u%04x", c);
-					out += buf;
-				}
-				else
-					out += static_cast<char>(c);
-		}
-	}
-	return out + "\"";
-}
-
-std::string json_number(double v)
-{
-	if (!std::isfinite(v)) return "null";
-	char buf[40];
-	std::snprintf(buf, sizeof(buf), "%.17g", v);
-	return buf;
-}
-
 std::string format_statistics_text(const std::string& title, const Statistics& stats)
 {
 	std::string s = title + "\n\n";
@@ -60,16 +28,10 @@ std::string format_statistics_text(const std::string& title, const Statistics& s
 
 std::string format_text_report(const MetricResult& result) { return format_statistics_text(result.title, result.stats); }
 
-std::string statistics_json(const Statistics& stats)
-{
-	std::string s = "{";
-	for (const auto& [name, value] : statistics_items(stats)) s += json_string(name) + ":" + json_number(value) + ",";
-	s += "\"count\":" + std::to_string(stats.count) + "}";
-	return s;
-}
-
 namespace
 {
+using nlohmann::ordered_json;
+
 /** Round-trip precision for machine-read files. */
 std::string num(double v) { return format_significant(v, 17); }
 
@@ -86,16 +48,52 @@ void finish(std::ofstream& f, const std::string& path)
 	if (!f) throw std::runtime_error("error while writing '" + path + "'");
 }
 
-
+/** A JSON number, or null when `v` is not finite (JSON has no NaN / infinity). nlohmann would dump a
+ * non-finite double as null too; saying so here keeps that contract independent of the library. */
+ordered_json number(double v) { return std::isfinite(v) ? ordered_json(v) : ordered_json(nullptr); }
 
 template <class Vec>
-std::string json_array(const Vec& v)
+ordered_json number_array(const Vec& v)
 {
-	std::string s = "[";
-	for (std::size_t i = 0; i < v.size(); i++) s += (i ? "," : "") + json_number(v[i]);
-	return s + "]";
+	ordered_json a = ordered_json::array();
+	for (const double x : v) a.push_back(number(x));
+	return a;
 }
+
+/** The statistics in statistics_items() order, then "count". */
+ordered_json statistics_object(const Statistics& stats)
+{
+	ordered_json j = ordered_json::object();
+	for (const auto& [name, value] : statistics_items(stats)) j[name] = number(value);
+	j["count"] = stats.count;
+	return j;
+}
+
+ordered_json alignment_object(const MetricResult& r)
+{
+	const Sim3& T = r.alignment.transform;
+	std::vector<double> rot_rows, origin;
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++) rot_rows.push_back(T.R(i, j));
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++) origin.push_back(r.alignment.origin(i, j));
+	ordered_json a;
+	a["align"] = r.alignment_options.align;
+	a["correct_scale"] = r.alignment_options.correct_scale;
+	a["align_origin"] = r.alignment_options.align_origin;
+	a["scale"] = number(T.scale);
+	a["rotation_row_major"] = number_array(rot_rows);
+	a["translation"] = number_array(std::vector<double>{T.t.x(), T.t.y(), T.t.z()});
+	a["origin_transform_row_major"] = number_array(origin);
+	return a;
+}
+
+/** The text of a JSON file: 2-space indentation. Bytes that are not UTF-8 (e.g. in a file name) become
+ * U+FFFD instead of making dump() throw, so the file stays valid JSON. */
+std::string json_text(const ordered_json& j) { return j.dump(2, ' ', false, ordered_json::error_handler_t::replace); }
 }  // namespace
+
+std::string statistics_json(const Statistics& stats) { return json_text(statistics_object(stats)); }
 
 void write_statistics_json(const std::string& path, const Statistics& stats)
 {
@@ -106,26 +104,19 @@ void write_statistics_json(const std::string& path, const Statistics& stats)
 
 std::string result_json(const MetricResult& r)
 {
-	std::ostringstream s;
-	const Sim3& T = r.alignment.transform;
-	std::vector<double> rot_rows;
-	for (int i = 0; i < 3; i++)
-		for (int j = 0; j < 3; j++) rot_rows.push_back(T.R(i, j));
-	std::vector<double> origin;
-	for (int i = 0; i < 4; i++)
-		for (int j = 0; j < 4; j++) origin.push_back(r.alignment.origin(i, j));
-	s << "{\"metric\":" << json_string(r.metric) << ",\"title\":" << json_string(r.title)
-	  << ",\"relation\":" << json_string(pose_relation_name(r.relation)) << ",\"unit\":" << json_string(r.unit)
-	  << ",\"alignment\":{\"align\":" << (r.alignment_options.align ? "true" : "false")
-	  << ",\"correct_scale\":" << (r.alignment_options.correct_scale ? "true" : "false")
-	  << ",\"align_origin\":" << (r.alignment_options.align_origin ? "true" : "false")
-	  << ",\"scale\":" << json_number(T.scale) << ",\"rotation_row_major\":" << json_array(rot_rows)
-	  << ",\"translation\":" << json_array(std::vector<double>{T.t.x(), T.t.y(), T.t.z()})
-	  << ",\"origin_transform_row_major\":" << json_array(origin) << "}"
-	  << ",\"ref_input_poses\":" << r.ref_input_poses << ",\"est_input_poses\":" << r.est_input_poses
-	  << ",\"associated_poses\":" << r.est.size() << ",\"stats\":" << statistics_json(r.stats)
-	  << ",\"stamps\":" << json_array(r.stamps) << ",\"errors\":" << json_array(r.errors) << "}";
-	return s.str();
+	ordered_json j;
+	j["metric"] = r.metric;
+	j["title"] = r.title;
+	j["relation"] = pose_relation_name(r.relation);
+	j["unit"] = r.unit;
+	j["alignment"] = alignment_object(r);
+	j["ref_input_poses"] = r.ref_input_poses;
+	j["est_input_poses"] = r.est_input_poses;
+	j["associated_poses"] = r.est.size();
+	j["stats"] = statistics_object(r.stats);
+	j["stamps"] = number_array(r.stamps);
+	j["errors"] = number_array(r.errors);
+	return json_text(j);
 }
 
 void write_errors_csv(std::ostream& out, const MetricResult& r)

@@ -7,8 +7,10 @@
 #include <swba/eval/text_format.h>
 
 #include <mrpt/system/filesystem.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -38,18 +40,6 @@ const std::vector<std::pair<const char*, double eval::Statistics::*>>& stat_fiel
 		{"max", &eval::Statistics::max},   {"min", &eval::Statistics::min},	  {"sse", &eval::Statistics::sse},
 		{"std", &eval::Statistics::std}};
 	return f;
-}
-
-std::string stats_json(const eval::Statistics& s)
-{
-	std::string j = "{";
-	bool first = true;
-	for (const auto& [name, field] : stat_fields())
-	{
-		j += std::string(first ? "" : ", ") + eval::json_string(name) + ": " + eval::json_number(s.*field);
-		first = false;
-	}
-	return j + "}";
 }
 
 void write_text_file(const std::string& path, const std::string& text, RunReport& report)
@@ -144,50 +134,73 @@ std::string format_ape_csv(const RunReport& report)
 
 namespace
 {
-std::string readings_json(const estimators::ReadingCounts& c)
+using nlohmann::ordered_json;
+
+/** A string, or null when it is empty (a field that does not apply to the row). */
+ordered_json string_or_null(const std::string& s) { return s.empty() ? ordered_json(nullptr) : ordered_json(s); }
+
+/** A JSON number, or null when `v` is not finite: JSON has no NaN / infinity (nlohmann would dump such a
+ * double as null too; this states the contract instead of relying on it). */
+ordered_json number(double v) { return std::isfinite(v) ? ordered_json(v) : ordered_json(nullptr); }
+
+/** The seven statistics in stat_fields() order (no count). */
+ordered_json stats_object(const eval::Statistics& s)
 {
-	std::ostringstream s;
-	s << "{\"processed\": " << c.readings << ", \"gated\": " << c.gated << ", \"readmitted\": " << c.readmitted
-	  << ", \"unconfirmed\": " << c.unconfirmed << ", \"excluded\": " << c.excluded
-	  << ", \"down_weighted\": " << c.down_weighted << "}";
-	return s.str();
+	ordered_json j = ordered_json::object();
+	for (const auto& [name, field] : stat_fields()) j[name] = number(s.*field);
+	return j;
+}
+
+ordered_json readings_object(const estimators::ReadingCounts& c)
+{
+	ordered_json j;
+	j["processed"] = c.readings;
+	j["gated"] = c.gated;
+	j["readmitted"] = c.readmitted;
+	j["unconfirmed"] = c.unconfirmed;
+	j["excluded"] = c.excluded;
+	j["down_weighted"] = c.down_weighted;
+	return j;
+}
+
+/** One entry of "estimators"; fields that do not apply to the row are null. */
+ordered_json row_object(const RunRow& r)
+{
+	ordered_json e;
+	e["name"] = r.name;
+	e["label"] = r.label;
+	e["window"] = r.window ? ordered_json(r.window) : ordered_json(nullptr);
+	e["trajectory"] = r.trajectory;
+	e["policy"] = string_or_null(r.policy);
+	e["fej"] = r.fej ? ordered_json(*r.fej) : ordered_json(nullptr);
+	e["method"] = string_or_null(r.method);
+	e["file"] = string_or_null(r.file);
+	e["poses"] = r.estimate.size();
+	e["ape_trans"] = r.has_ape ? stats_object(r.ape_trans) : ordered_json(nullptr);
+	e["ape_full"] = r.has_ape ? stats_object(r.ape_full) : ordered_json(nullptr);
+	e["seconds"] = number(r.seconds);
+	e["ms_per_step"] = number(r.ms_per_step);
+	e["steps_processed"] = r.steps;
+	e["readings"] = r.reading_counts ? readings_object(*r.reading_counts) : ordered_json(nullptr);
+	e["failed"] = r.failed;
+	e["failed_step"] = r.failed ? ordered_json(r.failed_step) : ordered_json(nullptr);
+	e["failure"] = r.failed ? ordered_json(r.failure) : ordered_json(nullptr);
+	return e;
 }
 }  // namespace
 
 std::string format_summary_json(const RunReport& report)
 {
-	using eval::json_number;
-	using eval::json_string;
-	std::ostringstream s;
-	s << "{\n  \"rawlog\": " << json_string(report.rawlog) << ",\n";
-	s << "  \"ground_truth\": " << (report.ground_truth.empty() ? "null" : json_string(report.ground_truth)) << ",\n";
-	s << "  \"steps\": " << report.steps << ",\n";
-	s << "  \"landmarks\": " << report.distinct_landmarks << ",\n";
-	s << "  \"estimators\": [";
-	for (std::size_t i = 0; i < report.rows.size(); i++)
-	{
-		const auto& r = report.rows[i];
-		s << (i ? "," : "") << "\n    {";
-		s << "\"name\": " << json_string(r.name);
-		s << ", \"label\": " << json_string(r.label);
-		s << ", \"window\": " << (r.window ? std::to_string(r.window) : "null");
-		s << ", \"trajectory\": " << json_string(r.trajectory);
-		s << ", \"policy\": " << (r.policy.empty() ? "null" : json_string(r.policy));
-		s << ", \"fej\": " << (r.fej ? (*r.fej ? "true" : "false") : "null");
-		s << ", \"method\": " << (r.method.empty() ? "null" : json_string(r.method));
-		s << ", \"file\": " << (r.file.empty() ? "null" : json_string(r.file));
-		s << ", \"poses\": " << r.estimate.size();
-		s << ",\n     \"ape_trans\": " << (r.has_ape ? stats_json(r.ape_trans) : "null");
-		s << ",\n     \"ape_full\": " << (r.has_ape ? stats_json(r.ape_full) : "null");
-		s << ",\n     \"seconds\": " << json_number(r.seconds) << ", \"ms_per_step\": " << json_number(r.ms_per_step);
-		s << ", \"steps_processed\": " << r.steps;
-		s << ",\n     \"readings\": " << (r.reading_counts ? readings_json(*r.reading_counts) : "null");
-		s << ", \"failed\": " << (r.failed ? "true" : "false");
-		s << ", \"failed_step\": " << (r.failed ? std::to_string(r.failed_step) : "null");
-		s << ", \"failure\": " << (r.failed ? json_string(r.failure) : "null") << "}";
-	}
-	s << "\n  ]\n}\n";
-	return s.str();
+	ordered_json j;
+	j["rawlog"] = report.rawlog;
+	j["ground_truth"] = string_or_null(report.ground_truth);
+	j["steps"] = report.steps;
+	j["landmarks"] = report.distinct_landmarks;
+	j["estimators"] = ordered_json::array();
+	for (const auto& r : report.rows) j["estimators"].push_back(row_object(r));
+	// 2-space indentation, as eval's JSON files. Bytes that are not UTF-8 (a rawlog path, a failure
+	// message) become U+FFFD instead of making dump() throw, so the file stays valid JSON.
+	return j.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n";
 }
 
 namespace

@@ -19,16 +19,17 @@ std::string format_statistics_text(const std::string& title, const Statistics& s
 /** format_statistics_text(result.title, result.stats) — what `swba ape` prints. */
 std::string format_text_report(const MetricResult& result);
 
-/** One JSON object of statistics on a single line:
+/** The text of <m>_stats.json, one JSON object of statistics:
  * {"max":…,"mean":…,"median":…,"min":…,"rmse":…,"sse":…,"std":…,"count":n}
- * (numbers with 17 significant digits; a non-finite value is written as null). */
+ * with 2-space indentation and no final newline. Numbers are the shortest text that reads back as the
+ * same double; a non-finite value is written as null. */
 std::string statistics_json(const Statistics& stats);
 /** Writes statistics_json(stats) to `path` (+ newline); throws std::runtime_error naming the path. */
 void write_statistics_json(const std::string& path, const Statistics& stats);
 
-/** The whole result as one JSON object: metric, title, relation, unit, alignment (flags, scale,
- * rotation, translation), input/associated pose counts, "stats" (as statistics_json) and the
- * per-pose arrays "stamps" and "errors". */
+/** The text of <m>_result.json (layout and numbers as statistics_json): metric, title, relation, unit,
+ * alignment (flags, scale, rotation, translation, origin transform), input/associated pose counts,
+ * "stats" (as statistics_json) and the per-pose arrays "stamps" and "errors". */
 std::string result_json(const MetricResult& result);
 
 /** Per-pose errors as CSV, header `t,error,ref_x,ref_y,ref_z,est_x,est_y,est_z` (estimate after
@@ -45,9 +46,4 @@ void write_statistics_csv(std::ostream& out, const std::vector<std::pair<std::st
  * the path on an I/O failure. */
 std::vector<std::string> save_results(const MetricResult& result, const std::string& dir,
 									  const std::string& prefix = "");
-
-/** A JSON string literal (quotes and escapes included). */
-std::string json_string(const std::string& s);
-/** A JSON number with 17 significant digits ("null" if not finite). */
-std::string json_number(double v);
 }  // namespace swba::eval
