@@ -53,6 +53,12 @@ struct PgoCommandLine
 		"initial values: chordal = chordal-relaxation rotations, then positions by linear least squares; "
 		"odometry = poses composed along the odometry spanning tree; file = the values as read (default chordal)",
 		false, "chordal", "chordal|odometry|file", cmd};
+	TCLAP::ValueArg<std::string> information{
+		"", "information",
+		"edge information matrices that are not positive definite: strict = error naming file:line; repair = "
+		"replace each by the nearest positive-definite matrix (symmetrise, clip eigenvalues below 1e-6 x the "
+		"largest), counted on stderr and in the report (default strict)",
+		false, "strict", swba::enum_choices<swba::io::InformationPolicy>("|"), cmd};
 	TCLAP::SwitchArg quiet{"q", "quiet", "do not print the per-iteration table", cmd};
 };
 
@@ -65,6 +71,7 @@ swba::apps::PgoAppOptions options_from(PgoCommandLine& a)
 	try
 	{
 		o.init = swba::problems::parse_pose_graph_init(a.init.getValue());
+		o.information = swba::parse_enum<swba::io::InformationPolicy>(a.information.getValue(), "information policy");
 		o.gauge = swba::problems::parse_pose_graph_gauge(a.gauge.getValue());
 		o.prior_sigma = a.prior_sigma.getValue();
 		o.rotation_error = swba::problems::parse_rotation_error(a.rotation_error.getValue());

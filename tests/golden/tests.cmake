@@ -27,6 +27,9 @@ swba_golden(bal bal ${_data}/bal/problem-49-7776-pre.txt)
 swba_golden(pgo_2d_intel pgo ${_data}/posegraph/intel.g2o -o <work>/intel.g2o)
 swba_golden(pgo_3d_smallgrid pgo ${_data}/posegraph/smallGrid3D.g2o -o <work>/smallGrid3D.g2o)
 swba_golden(pgo_3d_garage pgo ${_data}/posegraph/parking-garage.g2o -q)
+# swba pgo --information repair: a hand-made 2D loop with one indefinite information (test data).
+swba_golden(pgo_2d_information_repair pgo ${CMAKE_SOURCE_DIR}/tests/pgo/data/square_indefinite_se2.g2o
+  --information repair)
 # swba monoba: the default scene and the prior-weight sweep.
 swba_golden(monoba monoba)
 swba_golden(monoba_sweep monoba --sweep-prior-weights --seeds 3)

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
+
 #include <sstream>
 
 namespace
@@ -189,9 +191,10 @@ TEST(G2oReader, RejectsMalformedInputWithTheLine)
 	// Missing vertex: reported at the edge's line, after the whole file was read.
 	expect_rejected(kV0 + kV1 + "EDGE_SE3:QUAT 0 7 1 0 0 0 0 0 1" + kInfoId + kV0.substr(0, 0),
 					{"test.g2o:3:", "vertex 7 is not defined"});
-	// Not positive definite: entry (x,x) = −1.
+	// Not positive definite: entry (x,x) = −1. The message suggests the repair.
 	expect_rejected(kV0 + kV1 + "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 -1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1\n",
-					{"test.g2o:3:", "not positive definite"});
+					{"test.g2o:3:", "EDGE_SE3:QUAT", "information matrix is not positive definite",
+					 "smallest eigenvalue -1", "use --information repair"});
 	// Positive diagonal but indefinite (|off-diagonal| > diagonal).
 	expect_rejected(kV0 + kV1 + "EDGE_SE2 0 1 1 0 0 1 5 0 1 0 1\n", {"test.g2o:3:"});
 	// Truncated edge (information cut short).
@@ -203,6 +206,72 @@ TEST(G2oReader, RejectsMalformedInputWithTheLine)
 	expect_rejected(kV0 + "VERTEX_SE2 1 0 0 0\n", {"test.g2o:2:", "mix 2D and 3D"});
 	expect_rejected(kV0 + "\n\nFIX 3\n", {"test.g2o:4:", "FIX", "vertex 3 is not defined"});
 	expect_rejected(kV0 + kV1 + "EDGE_SE3:QUAT 1 1 1 0 0 0 0 0 1" + kInfoId, {"test.g2o:3:", "itself"});
+}
+
+// --information repair (InformationPolicy::Repair): indefinite informations replaced and counted.
+PoseGraph read_repaired(const std::string& text)
+{
+	std::istringstream in(text);
+	swba::io::G2oReadOptions o;
+	o.information = swba::io::InformationPolicy::Repair;
+	return swba::io::read_g2o(in, "test.g2o", o);
+}
+
+TEST(G2oReader, RepairReplacesAnIndefiniteSe3InformationAndCountsIt)
+{
+	// Line 4: diag(−1, 1, 1, 1, 1, 1) → diag(1e-6, 1, 1, 1, 1, 1); line 3 is valid and kept bit for bit.
+	const std::string valid = "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 4 0.5 0 0 0 0 3 0 0 0 0 2 0 0 0 1 0 0 1 0 1\n";
+	const std::string text =
+		kV0 + kV1 + valid + "EDGE_SE3:QUAT 1 0 -1 0 0 0 0 0 1 -1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1\n";
+	const PoseGraph g = read_repaired(text);
+	ASSERT_EQ(g.edges3.size(), 2u);
+	EXPECT_EQ(g.repaired_information.count, 1);
+	EXPECT_EQ(g.repaired_information.lines, (std::vector<int>{4}));
+	EXPECT_EQ(g.repaired_information.min_eigenvalue, -1);
+	EXPECT_EQ(g.repaired_information.min_eigenvalue_line, 4);
+	EXPECT_EQ(g.edges3[0].information, read_text(kV0 + kV1 + valid).edges3[0].information);
+	Eigen::Matrix<double, 6, 1> expected;
+	expected << 1e-6, 1, 1, 1, 1, 1;
+	EXPECT_TRUE(g.edges3[1].information.isApprox(Eigen::Matrix<double, 6, 6>(expected.asDiagonal()), 1e-12));
+	using Llt6 = Eigen::LLT<Eigen::Matrix<double, 6, 6>>;
+	EXPECT_EQ(Llt6(g.edges3[1].information).info(), Eigen::Success);
+	EXPECT_EQ(g.repaired_information.summary(g.num_edges(), swba::kPositiveDefiniteRelativeFloor),
+			  "repaired 1 of 2 edge information matrices (not positive definite; eigenvalues below 1e-06 x the "
+			  "largest raised to it; most negative eigenvalue -1 at line 4)");
+	// The default (strict) refuses the same file.
+	expect_rejected(text, {"test.g2o:4:", "use --information repair"});
+}
+
+TEST(G2oReader, RepairReplacesAnIndefiniteSe2Information)
+{
+	const std::string v2 = "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n";
+	// (x, y) block [[1, 5], [5, 1]]: eigenvalues 6 and −4.
+	const PoseGraph g = read_repaired(v2 + "EDGE_SE2 0 1 1 0 0 1 5 0 1 0 1\n");
+	EXPECT_EQ(g.repaired_information.count, 1);
+	EXPECT_EQ(g.repaired_information.min_eigenvalue_line, 3);
+	EXPECT_NEAR(g.repaired_information.min_eigenvalue, -4, 1e-12);
+	EXPECT_EQ(Eigen::LLT<Eigen::Matrix3d>(g.edges2[0].information).info(), Eigen::Success);
+	// A valid file: nothing repaired, and the summary says so.
+	const PoseGraph ok = read_repaired(v2 + "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n");
+	EXPECT_EQ(ok.repaired_information.count, 0);
+	EXPECT_EQ(ok.repaired_information.summary(1, 1e-6),
+			  "repaired 0 of 1 edge information matrices (all positive definite)");
+}
+
+TEST(G2oReader, RepairRefusesAnInformationWithoutPositiveEigenvalue)
+{
+	const std::string v2 = "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n";
+	try
+	{
+		read_repaired(v2 + "EDGE_SE2 0 1 1 0 0 -1 0 0 -1 0 0\n");
+		FAIL() << "no exception";
+	}
+	catch (const std::runtime_error& e)
+	{
+		const std::string msg = e.what();
+		for (const char* f : {"test.g2o:3:", "EDGE_SE2", "cannot be repaired", "no positive eigenvalue"})
+			EXPECT_NE(msg.find(f), std::string::npos) << "'" << f << "' not in: " << msg;
+	}
 }
 
 TEST(G2oReader, MissingFileIsAnError)

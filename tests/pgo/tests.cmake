@@ -33,3 +33,15 @@ set_tests_properties(pgo.cli_bad_init PROPERTIES WILL_FAIL TRUE)
 add_test(NAME pgo.cli_bad_initial_trust_region
   COMMAND $<TARGET_FILE:swba> pgo ${_pgo_data}/smallGrid3D.g2o --initial-trust-region 0)
 set_tests_properties(pgo.cli_bad_initial_trust_region PROPERTIES WILL_FAIL TRUE)
+# --information: an indefinite loop-closure information (tests/pgo/data/square_indefinite_se2.g2o, line 11)
+# is refused by default with file:line and the hint, repaired and counted with `repair`.
+set(_indefinite ${CMAKE_CURRENT_LIST_DIR}/data/square_indefinite_se2.g2o)
+add_test(NAME pgo.cli_indefinite_information_refused COMMAND $<TARGET_FILE:swba> pgo ${_indefinite} -q)
+set_tests_properties(pgo.cli_indefinite_information_refused PROPERTIES PASS_REGULAR_EXPRESSION
+  "square_indefinite_se2.g2o:11: EDGE_SE2: information matrix is not positive definite \\(smallest eigenvalue -200\\); use --information repair to replace it by the nearest positive-definite matrix")
+add_test(NAME pgo.cli_indefinite_information_repaired
+  COMMAND $<TARGET_FILE:swba> pgo ${_indefinite} --information repair -q)
+set_tests_properties(pgo.cli_indefinite_information_repaired PROPERTIES PASS_REGULAR_EXPRESSION
+  "repaired 1 of 4 edge information matrices.*Termination: CONVERGENCE")
+add_test(NAME pgo.cli_bad_information COMMAND $<TARGET_FILE:swba> pgo ${_pgo_data}/smallGrid3D.g2o --information clip)
+set_tests_properties(pgo.cli_bad_information PROPERTIES WILL_FAIL TRUE)

@@ -4,6 +4,7 @@
 #include <swba/core/file.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -82,7 +83,7 @@ struct LineContext
 		if (std::abs(n - 1.0) > 1e-15) q.coeffs() /= n;
 		return q;
 	}
-	/** Reads the upper triangle (row by row) of an n×n information matrix and checks it is SPD. */
+	/** Reads the upper triangle (row by row) of an n×n information matrix (symmetric by construction). */
 	template <int N>
 	Eigen::Matrix<double, N, N> information(const Tokens& tok, size_t first) const
 	{
@@ -90,8 +91,6 @@ struct LineContext
 		size_t k = first;
 		for (int r = 0; r < N; r++)
 			for (int c = r; c < N; c++) I(r, c) = I(c, r) = number(tok, k++);
-		Eigen::LLT<Eigen::Matrix<double, N, N>> llt(I);
-		if (llt.info() != Eigen::Success) fail("information matrix is not positive definite");
 		return I;
 	}
 };
@@ -102,7 +101,7 @@ struct LineContext
 class G2oFileReader
 {
    public:
-	explicit G2oFileReader(const std::string& source) : source_(source) {}
+	G2oFileReader(const std::string& source, const G2oReadOptions& options) : source_(source), options_(options) {}
 
 	/** One non-blank, non-comment line split into fields (`tok[0]` is the tag). */
 	void read_line(const Tokens& tok, int line_no)
@@ -172,7 +171,43 @@ class G2oFileReader
 		ctx.edge_ends(tok, e);
 		fill(e);
 		e.information = ctx.information<N>(tok, info_first);
+		check_information(ctx, e.information);
 		edges.push_back(e);
+	}
+	/** A positive-definite information (Cholesky succeeds) is kept bit for bit. Otherwise: Strict
+	 * refuses, naming the smallest eigenvalue and the repair option; Repair replaces it by the nearest
+	 * positive-definite matrix and records it in g_.repaired_information. */
+	template <int N>
+	void check_information(const LineContext& ctx, Eigen::Matrix<double, N, N>& info)
+	{
+		if (Eigen::LLT<Eigen::Matrix<double, N, N>>(info).info() == Eigen::Success) return;
+		char buf[64];
+		if (options_.information == InformationPolicy::Strict)
+		{
+			const double min_eig = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>>(info, Eigen::EigenvaluesOnly)
+									   .eigenvalues()(0);
+			std::snprintf(buf, sizeof buf, "%.6g", min_eig);
+			ctx.fail(std::string("information matrix is not positive definite (smallest eigenvalue ") + buf +
+					 "); use --information repair to replace it by the nearest positive-definite matrix");
+		}
+		PositiveDefiniteRepair r;
+		try
+		{
+			r = repair_positive_definite(info, options_.relative_floor);
+		}
+		catch (const std::domain_error& e)
+		{
+			ctx.fail(std::string("information matrix is not positive definite and cannot be repaired: ") + e.what());
+		}
+		info = r.matrix;
+		InformationRepairs& rep = g_.repaired_information;
+		if (rep.count == 0 || r.min_eigenvalue < rep.min_eigenvalue)
+		{
+			rep.min_eigenvalue = r.min_eigenvalue;
+			rep.min_eigenvalue_line = ctx.line;
+		}
+		rep.count++;
+		rep.lines.push_back(ctx.line);
 	}
 	void read_vertex3(const LineContext& ctx, const Tokens& tok)
 	{
@@ -216,6 +251,7 @@ class G2oFileReader
 	}
 
 	const std::string& source_;
+	const G2oReadOptions& options_;
 	PoseGraph g_;
 	std::vector<std::pair<G2oId, int>> fix_lines_;  ///< (id, line) of every FIX entry
 	Kind kind_ = Kind::Unknown;
@@ -242,15 +278,30 @@ std::string PoseGraph::skipped_summary() const
 	return "skipped " + std::to_string(total) + " line(s) with unknown tag(s): " + list;
 }
 
-PoseGraph read_g2o(const std::string& path)
+std::string InformationRepairs::summary(size_t num_edges, double relative_floor) const
 {
-	std::ifstream in = open_input_file(path, std::ios::in, "g2o file");
-	return read_g2o(in, path);
+	char buf[200];
+	std::snprintf(buf, sizeof buf, "repaired %d of %zu edge information matrices", count, num_edges);
+	std::string s = buf;
+	if (count == 0) return s + " (all positive definite)";
+	std::snprintf(buf, sizeof buf,
+				  " (not positive definite; eigenvalues below %g x the largest raised to it; most negative "
+				  "eigenvalue %.6g at line %d)",
+				  relative_floor, min_eigenvalue, min_eigenvalue_line);
+	return s + buf;
 }
 
-PoseGraph read_g2o(std::istream& in, const std::string& source_name)
+PoseGraph read_g2o(const std::string& path, const G2oReadOptions& options)
 {
-	G2oFileReader reader(source_name);
+	std::ifstream in = open_input_file(path, std::ios::in, "g2o file");
+	return read_g2o(in, path, options);
+}
+
+PoseGraph read_g2o(std::istream& in, const std::string& source_name, const G2oReadOptions& options)
+{
+	if (!(options.relative_floor > 0 && options.relative_floor <= 1))
+		throw std::invalid_argument("read_g2o: relative_floor must be in (0, 1]");
+	G2oFileReader reader(source_name, options);
 	std::string line;
 	for (int line_no = 1; std::getline(in, line); line_no++)
 	{

@@ -38,6 +38,13 @@ problems::PoseGraphProblemOptions PgoAppOptions::problem_options() const
 	return o;
 }
 
+io::G2oReadOptions PgoAppOptions::read_options() const
+{
+	io::G2oReadOptions o;
+	o.information = information;
+	return o;
+}
+
 problems::PoseGraphInitSummary initialize_pgo(io::PoseGraph& graph, const PgoAppOptions& options)
 {
 	return problems::initialize_pose_graph(graph, options.init_options());
@@ -58,11 +65,19 @@ Summary solve_pgo(problems::PoseGraphProblem& problem, io::PoseGraph& graph, con
 PgoAppResult run_pgo_app(const PgoAppOptions& options, std::ostream& out, std::ostream& log)
 {
 	if (std::string why; !options.is_valid(&why)) throw std::invalid_argument(why);
-	io::PoseGraph graph = io::read_g2o(options.input_path);
+	const io::G2oReadOptions read = options.read_options();
+	io::PoseGraph graph = io::read_g2o(options.input_path, read);
 	if (const auto skipped = graph.skipped_summary(); !skipped.empty()) log << "swba pgo: warning: " << skipped << "\n";
-	out << "Pose graph " << options.input_path << ": " << graph.num_vertices() << " vertices, " << graph.num_edges()
-		<< " edges (" << (graph.is_2d() ? "2D SE2" : "3D SE3:QUAT") << "), " << graph.fixed.size() << " FIX\n";
 	PgoAppResult result;
+	const bool repair = options.information == io::InformationPolicy::Repair;
+	result.repaired_information = graph.repaired_information.count;
+	// Repairing changes the problem: always said (count 0 included), never silent.
+	if (repair)
+		log << "swba pgo: " << graph.repaired_information.summary(graph.num_edges(), read.relative_floor) << "\n";
+	out << "Pose graph " << options.input_path << ": " << graph.num_vertices() << " vertices, " << graph.num_edges()
+		<< " edges (" << (graph.is_2d() ? "2D SE2" : "3D SE3:QUAT") << "), " << graph.fixed.size() << " FIX";
+	if (repair) out << ", " << result.repaired_information << " information matrices repaired";
+	out << "\n";
 	result.init = initialize_pgo(graph, options);
 	out << "Initialisation " << result.init.brief() << "\n";
 	auto pp = build_pgo_problem(graph, options);

@@ -21,6 +21,9 @@ struct PgoAppOptions
 {
 	std::string input_path;   ///< g2o file (required by run_pgo_app)
 	std::string output_path;  ///< optimised graph (empty: not written)
+	/** Edge informations that are not positive definite: Strict = an error (default), Repair = replaced
+	 * by the nearest positive-definite matrix, counted on `log` and in the report (swba/io/g2o.h). */
+	io::InformationPolicy information = io::InformationPolicy::Strict;
 	/** Initial values. Default chordal rotations, then positions by linear least squares. */
 	problems::PoseGraphInit init = problems::PoseGraphInit::Chordal;
 	/** Chordal only: false = chordal rotations, positions composed along the odometry tree. Default true. */
@@ -42,6 +45,7 @@ struct PgoAppOptions
 	bool is_valid(std::string* why) const;
 	problems::PoseGraphInitOptions init_options() const;
 	problems::PoseGraphProblemOptions problem_options() const;
+	io::G2oReadOptions read_options() const;
 };
 
 struct PgoAppResult
@@ -50,6 +54,7 @@ struct PgoAppResult
 	Summary summary;
 	int num_constant = 0;     ///< vertices held constant
 	bool has_prior = false;   ///< a gauge prior on the first vertex
+	int repaired_information = 0;  ///< edge informations replaced (InformationPolicy::Repair)
 };
 
 /** Stage 1: overwrites the graph's non-anchor vertex values with the initial values of options.init. */
@@ -60,7 +65,8 @@ problems::PoseGraphProblem build_pgo_problem(const io::PoseGraph& graph, const P
 Summary solve_pgo(problems::PoseGraphProblem& problem, io::PoseGraph& graph, const PgoAppOptions& options);
 
 /** The whole `swba pgo`: reads options.input_path, runs the three stages, prints the report to `out`
- * (warnings about skipped lines to `log`) and writes options.output_path. Throws
+ * (warnings about skipped lines and, with InformationPolicy::Repair, the line "repaired N of M edge
+ * information matrices (…)" to `log`) and writes options.output_path. Throws
  * std::invalid_argument on invalid options, std::runtime_error on unreadable input, unwritable output
  * or a failed optimisation (after the report). */
 PgoAppResult run_pgo_app(const PgoAppOptions& options, std::ostream& out, std::ostream& log);

@@ -14,13 +14,17 @@
  * Quaternions (vertices and edges) are normalised on read. Errors (std::runtime_error) name the
  * source and the line: malformed or non-finite numbers, missing or extra fields, unknown vertex ids
  * in edges or FIX lines, duplicate vertex ids, zero quaternions, information matrices that are not
- * positive definite.
+ * positive definite (unless G2oReadOptions::information is Repair: see InformationPolicy).
  *
  * 2D graphs are kept as 2D (poses (x, y, θ)), not lifted into SE(3). */
 #pragma once
 
+#include <swba/core/names.h>
+#include <swba/core/positive_definite.h>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
 #include <iosfwd>
 #include <map>
@@ -31,6 +35,39 @@
 namespace swba::io
 {
 using G2oId = std::int64_t;
+
+/** What the reader does with an edge information matrix that is not positive definite (no Cholesky
+ * factor). Files produced by some front ends (e.g. SE-Sync's cubicle.g2o) hold indefinite ones. */
+enum class InformationPolicy
+{
+	Strict,  ///< refuse: an error naming file:line, the smallest eigenvalue and the repair option
+	Repair   ///< replace it by the nearest positive-definite matrix (swba/core/positive_definite.h) and count it
+};
+constexpr std::array<EnumName<InformationPolicy>, 2> enum_names(InformationPolicy)
+{
+	return {{{InformationPolicy::Strict, "strict"}, {InformationPolicy::Repair, "repair"}}};
+}
+
+struct G2oReadOptions
+{
+	/** Default Strict (an indefinite information is an error). */
+	InformationPolicy information = InformationPolicy::Strict;
+	/** Repair only: eigenvalue floor relative to the largest eigenvalue. Default 1e-6
+	 * (kPositiveDefiniteRelativeFloor; why: swba/core/positive_definite.h). */
+	double relative_floor = kPositiveDefiniteRelativeFloor;
+};
+
+/** The information matrices the reader repaired (InformationPolicy::Repair). */
+struct InformationRepairs
+{
+	int count = 0;                     ///< edges whose information was replaced
+	double min_eigenvalue = 0;         ///< the most negative eigenvalue among them (0 if none)
+	int min_eigenvalue_line = 0;       ///< its source line
+	std::vector<int> lines;            ///< source line of every repaired edge, in file order
+	/** "repaired N of M edge information matrices (not positive definite; eigenvalues below 1e-06 × the
+	 * largest clipped to it; most negative eigenvalue -1.6e+05 at line L)"; M = `num_edges`. */
+	std::string summary(size_t num_edges, double relative_floor) const;
+};
 
 struct PoseGraphVertex3
 {
@@ -66,6 +103,7 @@ struct PoseGraph
 	std::vector<PoseGraphEdge2> edges2;
 	std::set<G2oId> fixed;                   ///< FIX lines
 	std::map<std::string, int> skipped_tags; ///< unknown tag → number of lines skipped
+	InformationRepairs repaired_information; ///< empty unless read with InformationPolicy::Repair
 
 	bool is_2d() const { return !vertices2.empty() || !edges2.empty(); }
 	size_t num_vertices() const { return vertices3.size() + vertices2.size(); }
@@ -74,10 +112,11 @@ struct PoseGraph
 	std::string skipped_summary() const;
 };
 
-/** Reads a g2o file; throws std::runtime_error("<path>:<line>: <reason>") on malformed input. */
-PoseGraph read_g2o(const std::string& path);
+/** Reads a g2o file; throws std::runtime_error("<path>:<line>: <reason>") on malformed input
+ * (std::invalid_argument on invalid options). */
+PoseGraph read_g2o(const std::string& path, const G2oReadOptions& options = {});
 /** Same, from a stream; `source_name` prefixes error messages. */
-PoseGraph read_g2o(std::istream& in, const std::string& source_name = "<stream>");
+PoseGraph read_g2o(std::istream& in, const std::string& source_name = "<stream>", const G2oReadOptions& options = {});
 
 /** Writes vertices (in id order), edges (in stored order) and FIX lines with %.17g, so that a
  * read → write → read round trip reproduces every number to the last bit of the normalised values. */
