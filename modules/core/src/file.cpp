@@ -3,7 +3,9 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <cstdio>
 #include <stdexcept>
+#include <unistd.h>
 
 namespace swba
 {
@@ -34,5 +36,39 @@ std::ifstream open_input_file(const std::string& path, std::ios::openmode mode, 
 	std::ifstream f(path, mode);
 	if (!f) fail(path, what_file, std::string("cannot open: ") + (errno ? std::strerror(errno) : "unknown error"));
 	return f;
+}
+
+void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write,
+						   std::ios::openmode mode)
+{
+	// A device or FIFO (/dev/stdout, /dev/full) is written in place: renaming over it would replace it.
+	std::error_code ec;
+	const auto type = std::filesystem::status(path, ec).type();
+	const bool in_place = type != std::filesystem::file_type::not_found && type != std::filesystem::file_type::regular;
+	const std::string tmp = in_place ? path : path + ".tmp." + std::to_string(::getpid());
+	const auto failed = [&](int err) {
+		if (!in_place) std::remove(tmp.c_str());
+		throw std::runtime_error("cannot write '" + path + "': " + (err ? std::strerror(err) : "I/O error"));
+	};
+	errno = 0;
+	std::ofstream f(tmp, mode | std::ios::out | (in_place ? std::ios::openmode{} : std::ios::trunc));
+	if (!f) failed(errno);
+	try
+	{
+		errno = 0;
+		write(f);
+	}
+	catch (...)
+	{
+		f.close();
+		if (!in_place) std::remove(tmp.c_str());
+		throw;
+	}
+	if (!f) failed(errno);  // errno of the failed write, before anything else can reset it
+	f.flush();
+	if (!f) failed(errno);
+	f.close();  // a full disk can show only here
+	if (!f) failed(errno);
+	if (!in_place && std::rename(tmp.c_str(), path.c_str()) != 0) failed(errno);
 }
 }  // namespace swba

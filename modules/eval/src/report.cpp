@@ -1,6 +1,7 @@
 // Text / CSV / JSON reports of evaluation results.
 #include "swba/eval/report.h"
 #include "swba/eval/text_format.h"
+#include <swba/core/file.h>
 
 #include <nlohmann/json.hpp>
 
@@ -35,18 +36,6 @@ using nlohmann::ordered_json;
 /** Round-trip precision for machine-read files. */
 std::string num(double v) { return format_significant(v, 17); }
 
-std::ofstream open_for_writing(const std::string& path)
-{
-	std::ofstream f(path);
-	if (!f) throw std::runtime_error("cannot write '" + path + "'");
-	return f;
-}
-
-void finish(std::ofstream& f, const std::string& path)
-{
-	f.close();
-	if (!f) throw std::runtime_error("error while writing '" + path + "'");
-}
 
 /** A JSON number, or null when `v` is not finite (JSON has no NaN / infinity). nlohmann would dump a
  * non-finite double as null too; saying so here keeps that contract independent of the library. */
@@ -97,9 +86,7 @@ std::string statistics_json(const Statistics& stats) { return json_text(statisti
 
 void write_statistics_json(const std::string& path, const Statistics& stats)
 {
-	auto f = open_for_writing(path);
-	f << statistics_json(stats) << "\n";
-	finish(f, path);
+	write_file_atomically(path, [&](std::ostream& f) { f << statistics_json(stats) << "\n"; });
 }
 
 std::string result_json(const MetricResult& r)
@@ -163,27 +150,17 @@ std::vector<std::string> save_results(const MetricResult& r, const std::string& 
 	written.push_back(stats_json);
 
 	const std::string stats_csv = path("_stats.csv");
-	{
-		auto f = open_for_writing(stats_csv);
+	write_file_atomically(stats_csv, [&](std::ostream& f) {
 		write_statistics_csv(f, {{r.metric + " " + pose_relation_name(r.relation), r.stats}});
-		finish(f, stats_csv);
-	}
+	});
 	written.push_back(stats_csv);
 
 	const std::string errors_csv = path("_errors.csv");
-	{
-		auto f = open_for_writing(errors_csv);
-		write_errors_csv(f, r);
-		finish(f, errors_csv);
-	}
+	write_file_atomically(errors_csv, [&](std::ostream& f) { write_errors_csv(f, r); });
 	written.push_back(errors_csv);
 
 	const std::string result = path("_result.json");
-	{
-		auto f = open_for_writing(result);
-		f << result_json(r) << "\n";
-		finish(f, result);
-	}
+	write_file_atomically(result, [&](std::ostream& f) { f << result_json(r) << "\n"; });
 	written.push_back(result);
 
 	const std::string aligned = path("_est_aligned.tum");

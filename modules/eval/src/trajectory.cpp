@@ -1,6 +1,7 @@
 // Trajectories and their text formats (TUM, MRPT ground-truth robot paths).
 #include "swba/eval/trajectory.h"
 #include "swba/eval/text_format.h"
+#include <swba/core/file.h>
 
 #include <stdexcept>
 #include <mrpt/math/CQuaternion.h>
@@ -162,10 +163,7 @@ void write_tum(std::ostream& out, const Trajectory& trajectory, int decimals)
 
 void write_tum(const std::string& path, const Trajectory& trajectory, int decimals)
 {
-	std::ofstream f(path);
-	if (!f) throw std::runtime_error("cannot write TUM file '" + path + "'");
-	write_tum(f, trajectory, decimals);
-	if (!f) throw std::runtime_error("error while writing TUM file '" + path + "'");
+	write_file_atomically(path, [&](std::ostream& f) { write_tum(f, trajectory, decimals); });
 }
 
 Trajectory read_mrpt_ground_truth(std::istream& in, const std::string& source)

@@ -2,6 +2,7 @@
 
 #include <swba/core/file.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -256,13 +257,14 @@ BalProblem read_bal(const std::string& path)
 
 void write_bal(const std::string& path, const BalProblem& bal)
 {
-	std::FILE* f = std::fopen(path.c_str(), "w");
-	if (!f) throw std::runtime_error(path + ": cannot open for writing");
-	std::fprintf(f, "%d %d %zu\n", bal.num_cameras, bal.num_points, bal.observations.size());
-	for (const auto& o : bal.observations) std::fprintf(f, "%d %d %.17g %.17g\n", o.camera, o.point, o.x, o.y);
-	for (double v : bal.cameras) std::fprintf(f, "%.17g\n", v);
-	for (double v : bal.points) std::fprintf(f, "%.17g\n", v);
-	const bool ok = !std::ferror(f);
-	if (std::fclose(f) != 0 || !ok) throw std::runtime_error(path + ": write failed");
+	write_file_atomically(path, [&](std::ostream& f) {
+		char buf[96];
+		const auto put = [&](int n) { f.write(buf, std::min<std::streamsize>(n, sizeof(buf) - 1)); };
+		put(std::snprintf(buf, sizeof(buf), "%d %d %zu\n", bal.num_cameras, bal.num_points, bal.observations.size()));
+		for (const auto& o : bal.observations)
+			put(std::snprintf(buf, sizeof(buf), "%d %d %.17g %.17g\n", o.camera, o.point, o.x, o.y));
+		for (double v : bal.cameras) put(std::snprintf(buf, sizeof(buf), "%.17g\n", v));
+		for (double v : bal.points) put(std::snprintf(buf, sizeof(buf), "%.17g\n", v));
+	});
 }
 }  // namespace swba::io

@@ -163,19 +163,18 @@ void write_directba_tum(const std::string& path, const std::vector<double>& time
 {
 	if (timestamps.size() != world_from_camera.size())
 		throw std::invalid_argument("write_directba_tum: timestamps and poses differ in number");
-	std::ofstream f(path);
-	if (!f) throw std::runtime_error(path + ": cannot open for writing");
-	char buf[256];
-	for (size_t i = 0; i < timestamps.size(); i++)
-	{
-		const auto& P = world_from_camera[i];
-		Eigen::Quaterniond q(Eigen::Matrix3d(P.getRotationMatrix().asEigen()));
-		q.normalize();
-		if (q.w() < 0) q.coeffs() = -q.coeffs();  // deterministic sign
-		std::snprintf(buf, sizeof(buf), "%.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", timestamps[i], P.x(), P.y(),
-					  P.z(), q.x(), q.y(), q.z(), q.w());
-		f << buf;
-	}
-	if (!f) throw std::runtime_error(path + ": write failed");
+	write_file_atomically(path, [&](std::ostream& f) {
+		char buf[256];
+		for (size_t i = 0; i < timestamps.size(); i++)
+		{
+			const auto& P = world_from_camera[i];
+			Eigen::Quaterniond q(Eigen::Matrix3d(P.getRotationMatrix().asEigen()));
+			q.normalize();
+			if (q.w() < 0) q.coeffs() = -q.coeffs();  // deterministic sign
+			std::snprintf(buf, sizeof(buf), "%.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", timestamps[i], P.x(), P.y(),
+						  P.z(), q.x(), q.y(), q.z(), q.w());
+			f << buf;
+		}
+	});
 }
 }  // namespace swba::io

@@ -315,11 +315,7 @@ PoseGraph read_g2o(std::istream& in, const std::string& source_name, const G2oRe
 
 void write_g2o(const PoseGraph& g, const std::string& path)
 {
-	std::ofstream out(path);
-	if (!out) throw std::runtime_error("cannot create g2o file '" + path + "'");
-	write_g2o(g, out);
-	out.flush();
-	if (!out) throw std::runtime_error("error while writing g2o file '" + path + "'");
+	write_file_atomically(path, [&](std::ostream& out) { write_g2o(g, out); });
 }
 
 void write_g2o(const PoseGraph& g, std::ostream& out)

@@ -1,5 +1,6 @@
 // The `swba monoba` application: one adjustment with its report, or the prior-weight sweep table.
 #include <swba/apps/monoba.h>
+#include <swba/core/file.h>
 
 #include <fstream>
 #include <ostream>
@@ -44,8 +45,7 @@ std::string run_monoba_app(const MonoBAAppOptions& options, std::ostream& out)
 	out << text;
 	if (!options.out_path.empty())
 	{
-		std::ofstream f(options.out_path);
-		if (!(f << text) || !f.flush()) throw std::runtime_error("cannot write " + options.out_path);
+		write_file_atomically(options.out_path, [&](std::ostream& f) { f << text; });
 		out << "Wrote " << options.out_path << "\n";
 	}
 	return text;

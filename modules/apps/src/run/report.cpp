@@ -1,5 +1,6 @@
 // swba run: the comparison table, ape.txt / ape.csv / summary.json, TUM files and plots.
 #include <swba/apps/run.h>
+#include <swba/core/file.h>
 #include <swba/eval/evaluation.h>
 #include <swba/eval/ground_truth.h>
 #include <swba/eval/plot.h>
@@ -44,10 +45,7 @@ const std::vector<std::pair<const char*, double eval::Statistics::*>>& stat_fiel
 
 void write_text_file(const std::string& path, const std::string& text, RunReport& report)
 {
-	std::ofstream f(path);
-	if (!f) throw std::runtime_error("cannot write '" + path + "'");
-	f << text;
-	if (!f) throw std::runtime_error("cannot write '" + path + "'");
+	write_file_atomically(path, [&](std::ostream& f) { f << text; });
 	report.files.push_back(path);
 }
 }  // namespace

@@ -1,10 +1,13 @@
 /** \file file.h
- * Input files: every reader checks its path with check_input_file before opening it, so that a
+ * Files in and out. Every reader checks its path with check_input_file before opening it, so that a
  * directory, a FIFO or a device (/dev/zero, /dev/stdin) is refused with one line instead of being
- * read forever or handed to a parser. */
+ * read forever or handed to a parser. Every writer goes through write_file_atomically, so that a
+ * file is either complete or not there, and a failure names the file and the OS reason. */
 #pragma once
 
 #include <fstream>
+#include <functional>
+#include <ostream>
 #include <string>
 
 namespace swba
@@ -17,4 +20,13 @@ void check_input_file(const std::string& path, const std::string& what_file = ""
 /** check_input_file, then an open std::ifstream (throws "<path>: cannot open: <OS reason>"). */
 std::ifstream open_input_file(const std::string& path, std::ios::openmode mode = std::ios::in,
 							  const std::string& what_file = "");
+
+/** Writes `path` through `write`: into "<path>.tmp.<pid>" in the same directory, flushed and closed,
+ * then renamed over `path`, so that a reader (or a run interrupted mid-write) never leaves a
+ * half-written file, and an existing `path` stays intact when the write fails. A `path` that exists
+ * and is no regular file (a device, a FIFO) is written in place. Throws
+ * std::runtime_error "cannot write '<path>': <OS reason>" (the temporary file removed); an exception
+ * thrown by `write` propagates after the temporary file is removed. */
+void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write,
+						   std::ios::openmode mode = std::ios::out);
 }  // namespace swba
