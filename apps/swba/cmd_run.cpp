@@ -76,13 +76,14 @@ struct RunCommandLine
 	TCLAP::ValueArg<int> threads{"", "threads", "solver threads. (Default: 1)", false, 1, "N"};
 	TCLAP::SwitchArg no_plots{"", "no-plots", "do not write gnuplot plots"};
 	TCLAP::SwitchArg no_progress{"", "no-progress", "no progress lines on stderr"};
+	TCLAP::SwitchArg verbose{"", "verbose", "each solve's summary on stderr: a line per window step, the batch's full report"};
 
 	RunCommandLine()
 	{
 		cmd.add(rawlog);
 		// TCLAP lists options in reverse order of addition.
 		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{
-				 &no_progress, &no_plots, &threads, &max_steps, &robust_probability, &robust_loss, &gate_probability, &gate,
+				 &verbose, &no_progress, &no_plots, &threads, &max_steps, &robust_probability, &robust_loss, &gate_probability, &gate,
 				 &std_pitch, &std_yaw, &std_range, &gauge, &landmarks,
 				 &fej, &policy, &ekf_method, &config, &out, &causal, &no_batch, &no_ekf, &windows, &gt})
 			cmd.add(*a);
@@ -117,6 +118,7 @@ struct RunCommandLine
 		}
 		if (no_plots.isSet()) o.plots = false;
 		if (no_progress.isSet()) o.progress = false;
+		if (verbose.isSet()) o.verbose = true;
 	}
 
 	/** The gate and the robust loss (checked by SlidingWindowOptions::validate, which names the option). */

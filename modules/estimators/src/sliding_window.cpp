@@ -43,6 +43,8 @@ struct SlidingWindowEstimator::Impl
 		sum.prior_only_landmarks = u.prior_only_eliminated;
 		sum.solve_seconds = seconds_since(ts);
 		sum.iterations = u.solver.iterations;
+		sum.termination = u.solver.termination;
+		sum.solver_message = u.solver.message;
 		sum.initial_cost = u.solver.initial_cost;
 		sum.final_cost = u.solver.final_cost;
 		if (graph.gate_on_entry()) graph.readmit_held(sum);

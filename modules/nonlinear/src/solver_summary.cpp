@@ -6,8 +6,6 @@
 
 namespace swba
 {
-namespace
-{
 const char* to_string(TerminationType t)
 {
 	switch (t)
@@ -21,6 +19,8 @@ const char* to_string(TerminationType t)
 	return "?";
 }
 
+namespace
+{
 /** "" or "  (rejected: <why>; <domain changes>)" / "  (<domain changes>)" for an accepted step. */
 std::string step_note(const IterationSummary& it)
 {

@@ -88,6 +88,8 @@ IniKeys<RunOptions> run_section_keys()
 		 [](const S& v, O& o) { o.plots = parse_bool(v); }, [](const O& o) { return format_bool(o.plots); }},
 		{"run", "progress", "bool", "progress lines on stderr for estimators running longer than a second",
 		 [](const S& v, O& o) { o.progress = parse_bool(v); }, [](const O& o) { return format_bool(o.progress); }},
+		{"run", "verbose", "bool", "each solve's summary on stderr (a line per window step, the batch's full report)",
+		 [](const S& v, O& o) { o.verbose = parse_bool(v); }, [](const O& o) { return format_bool(o.verbose); }},
 	};
 }
 

@@ -7,7 +7,9 @@
 #include <swba/estimators/sliding_window.h>
 #include <swba/eval/ground_truth.h>
 
+#include <cstdio>
 #include <optional>
+#include <ostream>
 #include <stdexcept>
 
 namespace swba::apps
@@ -60,6 +62,19 @@ void set_ekf_sensor_noise(const RowContext& ctx, estimators::EkfSlamOptions& eo)
 	noise(s.std_range, with_obs ? with_obs->sensor_std_range : 0, eo.std_range);
 	noise(s.std_yaw, with_obs ? with_obs->sensor_std_yaw : 0, eo.std_yaw);
 	noise(s.std_pitch, with_obs ? with_obs->sensor_std_pitch : 0, eo.std_pitch);
+}
+
+/** --verbose: one line per window step (its solve, the state it left). */
+void log_step_summary(std::ostream& log, const std::string& label, const estimators::StepSummary& s, double seconds)
+{
+	char buf[320];
+	std::snprintf(buf, sizeof(buf),
+				  "%s step %zu: LM %d it, cost %.6g -> %.6g, %s (%s); %d poses, %d landmarks, prior rank %d; "
+				  "solve %.2f ms, marginalisation %.2f ms, step %.2f ms\n",
+				  label.c_str(), s.step, s.iterations, s.initial_cost, s.final_cost, to_string(s.termination),
+				  s.solver_message.c_str(), s.window_poses, s.landmarks, s.prior_rank, s.solve_seconds * 1e3,
+				  s.marginalization_seconds * 1e3, seconds * 1e3);
+	log << buf << std::flush;
 }
 
 /** A row whose single task (batch, causal) failed at the end of the run. */
@@ -175,6 +190,7 @@ std::pair<RunRow, RunRow> run_window_rows(const RowContext& ctx, const estimator
 			const auto t0 = Clock::now();
 			const estimators::StepSummary& s = est.process(step);
 			const double dt = seconds_since(t0);
+			if (ctx.options.verbose) log_step_summary(ctx.log, online.label, s, dt);
 			total += dt;
 			iterations += s.iterations;
 			online.step_ms.push_back(dt * 1e3);
@@ -257,6 +273,9 @@ RunRow run_batch_row(const RowContext& ctx, const estimators::SlidingWindowOptio
 							   row.estimate = after_steps(in_gauge_frame(b.trajectory, unbounded, b.initial_pose));
 							   row.mean_iterations = b.summary.iterations;
 							   row.reading_counts = b.counts;
+							   if (ctx.options.verbose)
+								   ctx.log << "batch: " << b.rounds << " solve round(s); the last:\n"
+										   << b.summary.full_report() << std::flush;
 							   if (!b.summary.is_solution_usable())
 								   mark_failed(row, n, "batch solve failed: " + b.summary.message);
 						   });

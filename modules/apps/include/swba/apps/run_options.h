@@ -55,6 +55,9 @@ struct RunOptions
 	bool plots = true;
 	/** Progress lines on stderr for estimators running longer than a second. Default true. */
 	bool progress = true;
+	/** Each solve's summary on stderr: one line per window step, the batch's full solver report.
+	 * Default false. */
+	bool verbose = false;
 	/** The window/batch options: solver (threads included), sensor noise (also given to the EKF),
 	 * odometry floors, gauge, landmarks. window_size, policy and first_estimate_jacobians are taken
 	 * from the lists above for each row. */

@@ -150,6 +150,8 @@ struct StepSummary
 {
 	std::size_t step = 0;
 	int iterations = 0;
+	TerminationType termination = TerminationType::NotRun;  ///< of this step's LM solve
+	std::string solver_message;                             ///< the solver's reason, one line
 	/** Cost of the LM problem before and after the solve (with prior-only landmarks eliminated, of the
 	 * reduced problem: the prior's part differs from the full prior's by a constant). */
 	double initial_cost = 0, final_cost = 0;

@@ -111,6 +111,8 @@ enum class TerminationType
 	Failure,         ///< numerical failure (non-finite cost, factorization failed repeatedly)
 	UserCost         ///< stop_at_cost reached
 };
+/** Ceres's names: "CONVERGENCE", "NO_CONVERGENCE", "FAILURE", "USER_COST", "NOT_RUN". */
+const char* to_string(TerminationType t);
 
 /** What became of an LM step. */
 enum class StepOutcome
