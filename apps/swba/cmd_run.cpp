@@ -3,6 +3,7 @@
 #include <swba/apps/run.h>
 
 #include <cmath>
+#include <csignal>
 #include <iostream>
 
 #include "cli.h"
@@ -12,6 +13,21 @@ namespace swba::app
 {
 namespace
 {
+volatile std::sig_atomic_t g_signal = 0;
+extern "C" void on_stop_signal(int sig) { g_signal = sig; }
+
+/** SIGINT / SIGTERM ask the run to stop after the current step (a second one kills it: SA_RESETHAND):
+ * what is complete is kept, the rest marked interrupted, and the exit code is 128 + the signal. */
+void install_stop_handlers()
+{
+	struct sigaction sa = {};
+	sa.sa_handler = on_stop_signal;
+	sigemptyset(&sa.sa_mask);
+	sa.sa_flags = SA_RESETHAND;
+	sigaction(SIGINT, &sa, nullptr);
+	sigaction(SIGTERM, &sa, nullptr);
+}
+
 /** The command line of `swba run`: every option, and how it overrides the INI's value. */
 struct RunCommandLine
 {
@@ -152,6 +168,7 @@ struct RunCommandLine
 
 int run_run(int argc, char** argv)
 {
+	install_stop_handlers();  // first: a signal during the rawlog's reading is honoured too
 	RunCommandLine cl;
 	if (auto rc = parse_command_line(cl.cmd, argc, argv)) return *rc;
 	apps::RunOptions o;
@@ -165,7 +182,13 @@ int run_run(int argc, char** argv)
 		throw UsageError(e.what());
 	}
 	if (o.rawlog.empty()) o.rawlog = std::string(SWBA_DEFAULT_DATASETS) + "/kf-slam_6D_demo.rawlog";
-	const apps::RunReport report = apps::run_app(o, std::cout, std::cerr);
+	const apps::RunReport report = apps::run_app(o, std::cout, std::cerr, [] { return g_signal != 0; });
+	if (g_signal)
+	{
+		std::cerr << "swba run: interrupted by " << (g_signal == SIGINT ? "SIGINT" : "SIGTERM")
+				  << ": the complete rows are in " << o.out_dir << "/, the others marked interrupted in summary.json\n";
+		return 128 + g_signal;
+	}
 	if (apps::every_estimator_failed(report))
 	{
 		std::cerr << "swba run: error: every estimator failed (see the table)\n";

@@ -289,3 +289,44 @@ TEST(RunAppErrors, MessagesNeverCarryRawFileBytes)
 	EXPECT_NE(msg.find("class '\\x1b[2\\xff\\x07'"), std::string::npos) << msg;
 	for (const unsigned char c : msg) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "byte " << int(c) << " in: " << msg;
 }
+
+TEST(RunAppErrors, StopRequestKeepsTheCompleteRowsAndMarksTheRest)
+{
+	// The stop request arrives while the first window (W = 3) runs: the EKF rows are complete and on
+	// disk, the window's rows are interrupted after the steps done, the next window and the batch never
+	// start; summary.json says which.
+	const auto d = temp_dir();
+	const std::string path = (d / "run.rawlog").string();
+	write_synth(path, Synth{});
+	RunOptions o = quick_options(d, path);
+	o.windows = {3, 4};
+	int polls = 0;
+	bool in_window = false;
+	std::ostringstream out, log;
+	const auto report = swba::apps::run_app(o, out, log, [&] {
+		// The EKF polls once per step (8 + 8), then the first window per step: stop at its 5th step.
+		return in_window = ++polls > 16 + 4;
+	});
+	ASSERT_TRUE(in_window);
+	EXPECT_TRUE(swba::apps::run_interrupted(report));
+	ASSERT_EQ(report.rows.size(), 2u + 4u + 1u);
+	for (std::size_t i = 0; i < 2; i++) EXPECT_FALSE(report.rows[i].failed) << report.rows[i].label;
+	for (std::size_t i = 2; i < 4; i++)
+	{
+		EXPECT_TRUE(report.rows[i].interrupted) << report.rows[i].label;
+		EXPECT_EQ(report.rows[i].failed_step, 4u) << report.rows[i].label;
+	}
+	for (std::size_t i = 4; i < 7; i++)
+	{
+		EXPECT_TRUE(report.rows[i].interrupted) << report.rows[i].label;
+		EXPECT_EQ(report.rows[i].failed_step, 0u) << report.rows[i].label;
+	}
+	EXPECT_NE(out.str().find("INTERRUPTED after 4 steps"), std::string::npos) << out.str();
+	std::ifstream js(d / "out" / "summary.json");
+	const std::string json((std::istreambuf_iterator<char>(js)), {});
+	std::size_t interrupted = 0;
+	for (std::size_t at = json.find("\"interrupted\": true"); at != std::string::npos;
+		 at = json.find("\"interrupted\": true", at + 1))
+		interrupted++;
+	EXPECT_EQ(interrupted, 5u) << json;
+}

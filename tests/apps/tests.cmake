@@ -133,3 +133,15 @@ set_tests_properties(runapp.e2e.out_dir_is_a_file PROPERTIES TIMEOUT 60)
 swba_run_case(verbose 0
   REGEX "window W=3 step 0: LM [0-9]+ it, cost [^\n]*\n.*window W=3 step 4: LM [0-9]+ it, cost [0-9.e+-]+ -> [0-9.e+-]+, CONVERGENCE \\([a-z ]+\\); 3 poses, [0-9]+ landmarks, prior rank [0-9]+; solve [0-9.]+ ms, marginalisation [0-9.]+ ms, step [0-9.]+ ms\n.*batch: [0-9]+ solve round\\(s\\); the last:\n.*Final cost: +[0-9.e+]+\n.*Termination: CONVERGENCE"
   ARGS --max-steps 5 --windows 3 --no-ekf --verbose --no-plots --no-progress --out ${_out}/verbose)
+
+# SIGINT / SIGTERM mid-run (tests/apps/interrupt.sh): exit 130 / 143, complete rows kept, the rest
+# marked interrupted in summary.json and the table.
+foreach(_sig_rc INT:130 TERM:143)
+  string(REPLACE ":" ";" _pair "${_sig_rc}")
+  list(GET _pair 0 _sig)
+  list(GET _pair 1 _rc)
+  add_test(NAME runapp.e2e.interrupted_by_sig${_sig}
+    COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/interrupt.sh $<TARGET_FILE:swba> ${_out}/interrupted_${_sig} ${_sig} ${_rc})
+  set_tests_properties(runapp.e2e.interrupted_by_sig${_sig} PROPERTIES PASS_REGULAR_EXPRESSION "OK: exit ${_rc}"
+    TIMEOUT 120)
+endforeach()

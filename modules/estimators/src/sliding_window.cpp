@@ -166,6 +166,7 @@ std::map<std::int32_t, Eigen::Vector3d> SlidingWindowEstimator::landmarks() cons
 mrpt::poses::CPose3D SlidingWindowEstimator::initial_pose() const
 {
 	if (impl_->initial_left) return *impl_->initial_left;
+	if (impl_->graph.poses().empty()) return mrpt::poses::CPose3D();  // before the first step: the origin
 	return impl_->graph.pose(impl_->graph.poses().front().var);
 }
 const eval::Trajectory& SlidingWindowEstimator::online_trajectory() const { return impl_->online; }

@@ -74,7 +74,10 @@ std::string format_comparison_table(const RunReport& report)
 		else
 			for (int i = 0; i < 5; i++) s << pad_left("-", cw);
 		s << pad_left(fixed(r.ms_per_step, 3), 10);
-		if (r.failed) s << "  FAILED at step " << r.failed_step << ": " << r.failure;
+		if (r.interrupted)
+			s << "  INTERRUPTED after " << r.failed_step << " steps";
+		else if (r.failed)
+			s << "  FAILED at step " << r.failed_step << ": " << r.failure;
 		s << "\n";
 	}
 	return s.str();
@@ -183,6 +186,7 @@ ordered_json row_object(const RunRow& r)
 	e["failed"] = r.failed;
 	e["failed_step"] = r.failed ? ordered_json(r.failed_step) : ordered_json(nullptr);
 	e["failure"] = r.failed ? ordered_json(r.failure) : ordered_json(nullptr);
+	e["interrupted"] = r.interrupted;
 	return e;
 }
 }  // namespace
@@ -201,8 +205,6 @@ std::string format_summary_json(const RunReport& report)
 	return j.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n";
 }
 
-namespace
-{
 void write_run_files(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& gt, RunReport& report)
 {
 	const std::string& dir = options.out_dir;
@@ -228,6 +230,8 @@ void write_run_files(const RunOptions& options, const std::vector<mrpt::poses::C
 					"# swba run: the options of this run (load with --config)\n" + format_run_config(options), report);
 }
 
+namespace
+{
 void add_plot_files(const eval::PlotOutput& o, RunReport& report)
 {
 	for (const auto& f : o.files) report.files.push_back(f);

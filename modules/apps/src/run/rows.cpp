@@ -87,6 +87,15 @@ void mark_failed(RunRow& row, std::size_t step, const std::string& why)
 
 }  // namespace
 
+void mark_interrupted(RunRow& row, std::size_t steps_done)
+{
+	row.failed = true;
+	row.interrupted = true;
+	row.failed_step = steps_done;
+	row.failure = kInterrupted;
+	row.has_ape = false;
+}
+
 std::string one_line(const std::string& what)
 {
 	std::string s = io::mrpt_exception_summary(what);
@@ -118,7 +127,10 @@ RunRow run_ekf_row(const RowContext& ctx, const std::string& method, std::vector
 	set_ekf_sensor_noise(ctx, eo);
 	ProgressLine progress(ctx.log, ctx.options.progress, row.label, ctx.rawlog.steps.size());
 	auto last = Clock::now();
+	std::size_t steps_done = 0;
 	eo.progress = [&](std::size_t done, std::size_t) {
+		if (ctx.stopped()) throw std::runtime_error(kInterrupted);  // the filter reports it as its failure
+		steps_done = done;
 		const auto now = Clock::now();
 		row.step_ms.push_back(std::chrono::duration<double, std::milli>(now - last).count());
 		last = now;
@@ -131,7 +143,9 @@ RunRow run_ekf_row(const RowContext& ctx, const std::string& method, std::vector
 	}
 	catch (const std::exception& e)
 	{
-		throw std::runtime_error("EKF " + method + ": " + one_line(e.what()));
+		if (!ctx.stopped()) throw std::runtime_error("EKF " + method + ": " + one_line(e.what()));
+		res.failed = true;  // stopped where the filter does not catch (its set-up): no estimate to keep
+		res.failed_step = steps_done;
 	}
 	progress.finish();
 	for (std::size_t i = 0; i < res.poses.size(); i++) row.estimate.push_back(res.times[i], res.poses[i]);
@@ -139,6 +153,7 @@ RunRow run_ekf_row(const RowContext& ctx, const std::string& method, std::vector
 	row.steps = res.steps_processed;
 	row.ms_per_step = res.ms_per_step;
 	if (res.failed) mark_failed(row, res.failed_step, res.failure);
+	if (res.failed && ctx.stopped()) mark_interrupted(row, res.failed_step);
 	if (res.model == estimators::PoseModel::Planar)
 		notes.push_back(row.label + ": MRPT's 2D filter CRangeBearingKFSLAM2D (planar rawlog)");
 	if (!res.notes.empty()) notes.push_back(row.label + ": " + res.notes);
@@ -187,6 +202,7 @@ std::pair<RunRow, RunRow> run_window_rows(const RowContext& ctx, const estimator
 		estimators::SlidingWindowEstimator est(wo);
 		for (const auto& step : ctx.rawlog.steps)
 		{
+			if (ctx.stopped()) break;
 			const auto t0 = Clock::now();
 			const estimators::StepSummary& s = est.process(step);
 			const double dt = seconds_since(t0);
@@ -209,6 +225,8 @@ std::pair<RunRow, RunRow> run_window_rows(const RowContext& ctx, const estimator
 		for (RunRow* r : {&online, &lagged}) mark_failed(*r, done, one_line(e.what()));
 	}
 	progress.finish();
+	if (done < ctx.rawlog.steps.size() && !online.failed)
+		for (RunRow* r : {&online, &lagged}) mark_interrupted(*r, done);
 	for (RunRow* r : {&online, &lagged})
 	{
 		r->seconds = total;
@@ -230,6 +248,11 @@ RunRow single_task_row(const RowContext& ctx, RunRow row, const std::string& ann
 {
 	const std::size_t n = ctx.rawlog.steps.size();
 	ProgressLine progress(ctx.log, ctx.options.progress, row.label, n);
+	if (ctx.stopped())
+	{
+		mark_interrupted(row, 0);  // never started: a batch or causal solve cannot stop half-way
+		return row;
+	}
 	if (announce) progress.announce(announcement);
 	const auto t0 = Clock::now();
 	try

@@ -3,6 +3,7 @@
 
 #include <swba/apps/run.h>
 
+#include <functional>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -18,7 +19,16 @@ struct RowContext
 	std::ostream& log;
 	/** The window/batch options with the run's thread count. */
 	estimators::SlidingWindowOptions base;
+	/** RunControl::stop_requested (may be empty). */
+	std::function<bool()> stop = {};
+
+	bool stopped() const { return stop && stop(); }
 };
+
+/** The `failure` text of an interrupted row. */
+inline constexpr const char* kInterrupted = "interrupted";
+/** Marks `row` interrupted after `steps_done` steps. */
+void mark_interrupted(RunRow& row, std::size_t steps_done);
 
 /** MRPT's EKF with `method`: one row; its notes (MRPT warnings) are appended to `notes`. Throws
  * std::runtime_error on bad EKF options (a user error, unlike an EKF failure, which is a failed row). */

@@ -47,7 +47,7 @@ void note_unevaluable_factors(const RunRow& online, std::vector<std::string>& no
 }
 
 /** The window for each policy × FEJ × W: online and lagged rows. */
-void add_window_rows(const RowContext& ctx, RunReport& report)
+void add_window_rows(const RowContext& ctx, RunReport& report, const RunControl& control)
 {
 	const RunOptions& options = ctx.options;
 	const bool combos = options.policies.size() * options.fej.size() > 1;
@@ -63,16 +63,15 @@ void add_window_rows(const RowContext& ctx, RunReport& report)
 				note_unevaluable_factors(online, report.notes);
 				report.rows.push_back(std::move(online));
 				report.rows.push_back(std::move(lagged));
+				if (control.row_done) control.row_done(report);
 			}
 }
 
 /** EKF file names: ekf.tum for one method, ekf_<method>.tum for several. */
-void name_ekf_files(RunReport& report)
+void name_ekf_files(RunReport& report, std::size_t methods)
 {
-	std::size_t ekf_rows = 0;
-	for (const auto& r : report.rows) ekf_rows += r.name == "ekf";
 	for (auto& r : report.rows)
-		if (r.name == "ekf") r.file = ekf_rows == 1 ? "ekf.tum" : "ekf_" + r.method + ".tum";
+		if (r.name == "ekf") r.file = methods == 1 ? "ekf.tum" : "ekf_" + r.method + ".tum";
 }
 
 void print_inputs(const RunOptions& options, const io::Rawlog& rawlog, const std::string& gt_path, std::ostream& log)
@@ -111,23 +110,31 @@ void add_reading_notes(RunReport& report)
 }  // namespace
 
 RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
-						 const std::vector<mrpt::poses::CPose3D>& gt, std::ostream& log)
+						 const std::vector<mrpt::poses::CPose3D>& gt, std::ostream& log, const RunControl& control)
 {
 	options.validate();
 	RunReport report = empty_report(rawlog);
-	RowContext ctx{options, rawlog, gt, log, options.window};
+	RowContext ctx{options, rawlog, gt, log, options.window, control.stop_requested};
+	const auto done = [&] {
+		if (control.row_done) control.row_done(report);
+	};
 
 	if (options.run_ekf)
-		for (const auto& method : options.ekf_methods) report.rows.push_back(run_ekf_row(ctx, method, report.notes));
-	add_window_rows(ctx, report);
+		for (const auto& method : options.ekf_methods)
+		{
+			report.rows.push_back(run_ekf_row(ctx, method, report.notes));
+			done();
+		}
+	add_window_rows(ctx, report, control);
 
 	estimators::SlidingWindowOptions unbounded = ctx.base;
 	unbounded.window_size = 0;
 	unbounded.policy = options.policies.front();
 	unbounded.first_estimate_jacobians = options.fej.front();
 	if (options.run_batch) report.rows.push_back(run_batch_row(ctx, unbounded));
+	if (options.run_batch) done();
 	if (options.run_causal) report.rows.push_back(run_causal_row(ctx, unbounded));
-	name_ekf_files(report);
+	name_ekf_files(report, options.ekf_methods.size());
 	add_reading_notes(report);
 	return report;
 }
@@ -148,6 +155,13 @@ void prepare_output_directory(const std::string& dir)
 	std::remove(probe.c_str());
 }
 
+bool run_interrupted(const RunReport& report)
+{
+	for (const auto& r : report.rows)
+		if (r.interrupted) return true;
+	return false;
+}
+
 bool every_estimator_failed(const RunReport& report)
 {
 	for (const auto& r : report.rows)
@@ -155,7 +169,8 @@ bool every_estimator_failed(const RunReport& report)
 	return !report.rows.empty();
 }
 
-RunReport run_app(const RunOptions& options, std::ostream& out, std::ostream& log)
+RunReport run_app(const RunOptions& options, std::ostream& out, std::ostream& log,
+				  const std::function<bool()>& stop_requested)
 {
 	if (options.rawlog.empty()) throw std::invalid_argument("no rawlog given");
 	options.validate();
@@ -181,7 +196,16 @@ RunReport run_app(const RunOptions& options, std::ostream& out, std::ostream& lo
 	print_inputs(options, rawlog, gt_path, log);
 	prepare_output_directory(options.out_dir);
 
-	RunReport report = run_estimators(options, rawlog, gt, log);
+	RunControl control;
+	control.stop_requested = stop_requested;
+	control.row_done = [&](const RunReport& so_far) {
+		// What is complete is on disk at once: TUM files, ape.txt/csv and summary.json so far.
+		RunReport snapshot = so_far;
+		snapshot.ground_truth = gt_path;
+		name_ekf_files(snapshot, options.ekf_methods.size());
+		write_run_files(options, gt, snapshot);
+	};
+	RunReport report = run_estimators(options, rawlog, gt, log, control);
 	report.ground_truth = gt_path;
 	write_run_outputs(options, gt, report);
 	out << format_comparison_table(report) << std::flush;

@@ -20,6 +20,7 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <cstddef>
+#include <functional>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -60,6 +61,9 @@ struct RunRow
 	bool failed = false;
 	std::size_t failed_step = 0;  ///< the step k whose processing threw
 	std::string failure;          ///< one line
+	/** Stopped by RunControl::stop_requested (failed is set too: no APE; failed_step = the steps done,
+	 * 0 for a row that never started). */
+	bool interrupted = false;
 };
 
 /** Everything a run produced. */
@@ -73,10 +77,21 @@ struct RunReport
 	std::vector<std::string> notes;    ///< one line each (plot notes, reader warnings, …)
 };
 
+/** How a caller steers a long run: `stop_requested` is polled between steps (window, EKF) and before
+ * each estimator (batch and causal run to their end once started); when it returns true the running
+ * estimator's rows and every one not yet started are marked interrupted. `row_done` is called with
+ * the report so far each time an estimator's rows are complete. Both optional. */
+struct RunControl
+{
+	std::function<bool()> stop_requested;
+	std::function<void(const RunReport&)> row_done;
+};
+
 /** Runs every estimator the options ask for on `rawlog` (already read) and fills the rows; APE when
  * `ground_truth` is not empty. Progress lines go to `log` (when options.progress). Writes no file. */
 RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
-						 const std::vector<mrpt::poses::CPose3D>& ground_truth, std::ostream& log);
+						 const std::vector<mrpt::poses::CPose3D>& ground_truth, std::ostream& log,
+						 const RunControl& control = {});
 
 /** The comparison table (one row per estimator; failures with their step and message). */
 std::string format_comparison_table(const RunReport& report);
@@ -87,6 +102,11 @@ std::string format_ape_csv(const RunReport& report);
 /** summary.json (see doc/run.md for the shape). */
 std::string format_summary_json(const RunReport& report);
 
+/** Writes the TUM files, ape.txt, ape.csv, summary.json and config.ini of the rows so far (no plots)
+ * and records them in report.files. Throws std::runtime_error naming a path that cannot be written. */
+void write_run_files(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& ground_truth,
+					 RunReport& report);
+
 /** Writes the output directory (TUM files, ape.txt, ape.csv, summary.json, config.ini, plots) and
  * records the paths in report.files. Throws std::runtime_error naming a path that cannot be written. */
 void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& ground_truth,
@@ -95,8 +115,14 @@ void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses:
 /** True when the report has rows and every one of them failed (swba run then exits 1). */
 bool every_estimator_failed(const RunReport& report);
 
+/** True when a row was interrupted (RunControl::stop_requested). */
+bool run_interrupted(const RunReport& report);
+
 /** The whole `swba run`: reads the rawlog (options.rawlog must be set) and the ground truth, runs,
- * prints the table to `out`, writes the files; notes and progress go to `log`. Throws on bad input
- * (one-line messages naming the file/option). */
-RunReport run_app(const RunOptions& options, std::ostream& out, std::ostream& log);
+ * prints the table to `out`, writes the files; notes and progress go to `log`. The output files
+ * (TUM trajectories, ape.txt/csv, summary.json) are rewritten as each estimator completes, so an
+ * interrupted run keeps what was complete. Throws on bad input (one-line messages naming the
+ * file/option). */
+RunReport run_app(const RunOptions& options, std::ostream& out, std::ostream& log,
+				  const std::function<bool()>& stop_requested = {});
 }  // namespace swba::apps

@@ -219,7 +219,8 @@ class SlidingWindowEstimator
 	std::map<std::int32_t, Eigen::Vector3d> landmarks() const;
 
 	/** The estimate of the initial pose (t = 0; the origin under the fixed gauge, free to move under
-	 * the others): its value when it left the window, or its current value while it is in it. */
+	 * the others): its value when it left the window, or its current value while it is in it (the
+	 * origin before the first step). */
 	mrpt::poses::CPose3D initial_pose() const;
 	/** Each pose as estimated right after its own step (t = k + 1). */
 	const eval::Trajectory& online_trajectory() const;
