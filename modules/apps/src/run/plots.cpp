@@ -131,6 +131,10 @@ void plot_ape_vs_window(const RunOptions& options, const RowTriage& triage, RunR
 	}
 	if (p.series.empty()) return;
 	if (!triage.diverged.empty()) p.yrange = eval::data_range(kept);
+	// Explicit also so that a single W gets a range (gnuplot warns on an empty one) and no point sits on the frame.
+	std::vector<double> windows;
+	for (const auto& s : p.series) windows.insert(windows.end(), s.x.begin(), s.x.end());
+	p.xrange = eval::data_range(windows);
 	p.notes = triage.plot_lines(shown);
 	add_plot_files(eval::plot_lines(options.out_dir, "ape_rmse_vs_window", p, po), report);
 }
