@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <swba/eval/plot.h>
 #include <swba/eval/report.h>
+#include <swba/eval/text_format.h>
 
 #include <nlohmann/json.hpp>
 
@@ -182,3 +183,117 @@ TEST(Plot, RendersPngAndSvgWhenGnuplotIsInstalled)
 	fs::remove_all(dir);
 }
 
+
+TEST(Plot, RangesIgnoreAClippedSeries)
+{
+	LinePlot p;
+	p.series.push_back({"good", {0, 10}, {0, 5}});
+	p.series.push_back({"other", {2, 4}, {1, 2}});
+	p.references.push_back({"EKF", 3});
+	// Nothing clipped: gnuplot autoscales.
+	auto [x0, y0] = plot_ranges(p);
+	EXPECT_FALSE(x0);
+	EXPECT_FALSE(y0);
+	// A diverged series far outside: the ranges are the others' ±5 %, not its.
+	PlotSeries bad{"diverged", {-1000, 5000}, {0, 9000}};
+	bad.clipped = true;
+	p.series.push_back(bad);
+	p.references.push_back({"diverged ref", 800, true});
+	const auto [x, y] = plot_ranges(p);
+	ASSERT_TRUE(x && y);
+	EXPECT_DOUBLE_EQ(x->min, -0.5);
+	EXPECT_DOUBLE_EQ(x->max, 10.5);
+	EXPECT_DOUBLE_EQ(y->min, -0.25);
+	EXPECT_DOUBLE_EQ(y->max, 5.25);
+	// An explicit range wins.
+	p.yrange = AxisRange{0, 1};
+	EXPECT_DOUBLE_EQ(plot_ranges(p).second->max, 1.0);
+	// data_range: non-finite values are skipped; one value gets a margin from its magnitude.
+	EXPECT_FALSE(data_range({std::nan(""), HUGE_VAL}));
+	const auto one = data_range({2.0, std::nan("")});
+	ASSERT_TRUE(one);
+	EXPECT_DOUBLE_EQ(one->min, 1.9);
+	EXPECT_DOUBLE_EQ(one->max, 2.1);
+}
+
+TEST(Plot, ScriptHasRangesNotesAndTheKeyOutside)
+{
+	const std::string dir = fresh_dir("clipped");
+	PlotOptions o;
+	o.gnuplot = "/nonexistent/gnuplot";
+	LinePlot p;
+	p.title = "top view";
+	p.series.push_back({"good", {0, 10}, {0, 5}});
+	PlotSeries bad{"diverged", {0, 5000}, {0, 9000}};
+	bad.clipped = true;
+	p.series.push_back(bad);
+	p.notes = {"ekf: failed at step 3, not drawn", "diverged: drawn clipped"};
+	plot_lines(dir, "p", p, o);
+	const std::string gp = slurp(dir + "/p.gp");
+	EXPECT_NE(gp.find("set xrange [-0.5:10.5]\n"), std::string::npos) << gp;
+	EXPECT_NE(gp.find("set yrange [-0.25:5.25]\n"), std::string::npos) << gp;
+	EXPECT_NE(gp.find("set label 1 \"ekf: failed at step 3, not drawn\" at character 1, character 2 left"),
+			  std::string::npos)
+		<< gp;
+	EXPECT_NE(gp.find("set label 2 \"diverged: drawn clipped\" at character 1, character 1 left"), std::string::npos);
+	EXPECT_NE(gp.find("set key outside"), std::string::npos);
+	// The clipped series is still drawn: its data is in the file.
+	EXPECT_NE(slurp(dir + "/p.dat").find("5000 9000"), std::string::npos);
+	fs::remove_all(dir);
+}
+
+TEST(Plot, ErrorOverTimeHasRmseMeanMedianAndStdBand)
+{
+	const std::string dir = fresh_dir("errors_lines");
+	PlotOptions o;
+	o.gnuplot = "/nonexistent/gnuplot";
+	const MetricResult r = small_result();  // errors 0, 0.5, 1, 1.5
+	plot_error_over_time(dir, "e", r, o);
+	const std::string gp = slurp(dir + "/e.gp");
+	const auto num = [](double v) { return format_significant(v, 6); };
+	for (const std::string& line : std::vector<std::string>{"title \"rmse (" + num(r.stats.rmse) + ")\"", "title \"mean (0.75)\"",
+								   "title \"median (0.75)\"", "filledcurves"})
+		EXPECT_NE(gp.find(line), std::string::npos) << line << "\n" << gp;
+	// The band spans the data's x extent at mean ± std.
+	const std::string dat = slurp(dir + "/e.dat");
+	const std::string lo = format_significant(r.stats.mean - r.stats.std, 10);
+	const std::string hi = format_significant(r.stats.mean + r.stats.std, 10);
+	EXPECT_NE(dat.find("0 " + lo + " " + hi + "\n3 " + lo + " " + hi + "\n"), std::string::npos) << dat;
+	fs::remove_all(dir);
+}
+
+TEST(Plot, ColormapWritesErrorsAsAThirdColumn)
+{
+	const std::string dir = fresh_dir("colormap");
+	PlotOptions o;
+	o.gnuplot = "/nonexistent/gnuplot";
+	const MetricResult r = small_result();
+	ColormapTopView c;
+	c.reference = {"reference", r.ref};
+	c.estimate = {"estimate", r.est};
+	c.errors = r.errors;
+	c.error_label = "APE (m)";
+	c.color_range = AxisRange{0, 2};
+	plot_trajectory_colormap(dir, "cm", c, o);
+	EXPECT_NE(slurp(dir + "/cm.dat").find("# estimate\n0 0 0\n1 0.5 0.5\n2 1 1\n3 1.5 1.5\n"), std::string::npos)
+		<< slurp(dir + "/cm.dat");
+	const std::string gp = slurp(dir + "/cm.gp");
+	EXPECT_NE(gp.find("using 1:2:3 with lines lw 2 lc palette"), std::string::npos) << gp;
+	EXPECT_NE(gp.find("set cbrange [0:2]"), std::string::npos);
+	c.errors.pop_back();
+	EXPECT_THROW(plot_trajectory_colormap(dir, "cm", c, o), std::invalid_argument);
+	fs::remove_all(dir);
+}
+
+TEST(Plot, SameInputSameFiles)
+{
+	const std::string a = fresh_dir("det_a"), b = fresh_dir("det_b");
+	PlotOptions o;
+	o.gnuplot = "/nonexistent/gnuplot";
+	plot_error_over_time(a, "e", small_result(), o);
+	plot_error_over_time(b, "e", small_result(), o);
+	EXPECT_EQ(slurp(a + "/e.dat"), slurp(b + "/e.dat"));
+	EXPECT_EQ(slurp(a + "/e.gp"), slurp(b + "/e.gp"));
+	fs::remove_all(a);
+	fs::remove_all(b);
+}

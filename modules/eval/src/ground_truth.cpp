@@ -59,12 +59,16 @@ Trajectory paired_ground_truth(const std::vector<mrpt::poses::CPose3D>& rows, co
 	return ref;
 }
 
+std::vector<double> ape_errors_against_ground_truth(const std::vector<mrpt::poses::CPose3D>& rows,
+													 const Trajectory& estimate, PoseRelation relation)
+{
+	return ape_errors(paired_ground_truth(rows, estimate), estimate, relation);
+}
+
 std::pair<Statistics, Statistics> ape_against_ground_truth(
 	const std::vector<mrpt::poses::CPose3D>& rows, const Trajectory& estimate)
 {
-	const auto ref = paired_ground_truth(rows, estimate);
-	std::vector<double> trans = ape_errors(ref, estimate, PoseRelation::TranslationPart);
-	std::vector<double> full = ape_errors(ref, estimate, PoseRelation::FullTransformation);
-	return {compute_statistics(trans), compute_statistics(full)};
+	return {compute_statistics(ape_errors_against_ground_truth(rows, estimate, PoseRelation::TranslationPart)),
+			compute_statistics(ape_errors_against_ground_truth(rows, estimate, PoseRelation::FullTransformation))};
 }
 }  // namespace swba::eval

@@ -5,6 +5,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -61,44 +63,116 @@ std::string shell_quote(const std::string& s)
 
 namespace
 {
-/** One block per series, separated by two blank lines (gnuplot's `index`). */
+/** min … max of the x values of the series that set the axes (the extent of a band). */
+std::optional<AxisRange> band_extent(const LinePlot& plot)
+{
+	if (plot.xrange) return plot.xrange;
+	std::vector<double> xs;
+	for (const auto& s : plot.series)
+		if (!s.clipped) xs.insert(xs.end(), s.x.begin(), s.x.end());
+	return data_range(xs, 0.0);
+}
+
+/** One block per series (x y [colour]), then one per band (x low high at both ends of the data),
+ * separated by two blank lines (gnuplot's `index`). */
 void write_plot_data(const std::string& dat_path, const LinePlot& plot)
 {
+	const auto num = [](double v) { return format_significant(v, 10); };
 	write_file_atomically(dat_path, [&](std::ostream& f) {
-		for (std::size_t k = 0; k < plot.series.size(); k++)
+		for (const auto& s : plot.series)
 		{
-			const auto& s = plot.series[k];
-			f << "# " << s.label << "\n";
+			f << "# " << s.label << (s.clipped ? " (clipped)" : "") << "\n";
 			for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); i++)
-				f << format_significant(s.x[i], 10) << ' ' << format_significant(s.y[i], 10) << '\n';
+			{
+				f << num(s.x[i]) << ' ' << num(s.y[i]);
+				if (!s.color.empty()) f << ' ' << (i < s.color.size() ? num(s.color[i]) : "nan");
+				f << '\n';
+			}
 			if (s.x.empty()) f << "nan nan\n";	 // keeps the block (and its index) present
+			f << "\n\n";
+		}
+		const auto extent = band_extent(plot);
+		for (const auto& b : plot.bands)
+		{
+			f << "# " << b.label << "\n";
+			if (extent)
+				for (double x : {extent->min, extent->max}) f << num(x) << ' ' << num(b.low) << ' ' << num(b.high) << '\n';
+			else
+				f << "nan nan nan\n";
 			f << "\n\n";
 		}
 	});
 }
 
-/** The gnuplot `plot` command: each series from the data file, then the reference lines. */
+/** The gnuplot `plot` command: the bands (under everything), each series, then the reference lines. */
 std::string plot_command(const std::string& dat_name, const LinePlot& plot)
 {
 	std::ostringstream cmd;
 	cmd << "plot ";
 	bool first = true;
+	auto next = [&]() -> std::ostream& {
+		cmd << (first ? "" : ", \\\n     ");
+		first = false;
+		return cmd;
+	};
+	for (std::size_t j = 0; j < plot.bands.size(); j++)
+		next() << gp_string(dat_name) << " index " << plot.series.size() + j
+			   << " using 1:2:3 with filledcurves fc rgb \"#d8d8d8\" fs solid 1.0 noborder title "
+			   << gp_string(plot.bands[j].label);
 	for (std::size_t k = 0; k < plot.series.size(); k++)
 	{
-		cmd << (first ? "" : ", \\\n     ") << gp_string(dat_name) << " index " << k << " using 1:2 with "
-			<< (plot.with_points ? "linespoints pt 7 ps 0.5" : "lines") << " lw 2 title "
-			<< gp_string(plot.series[k].label);
-		first = false;
+		const auto& s = plot.series[k];
+		const std::string style = !s.line_style.empty() ? s.line_style
+								  : s.color.empty()		? "lw 2 lt " + std::to_string(k + 1)
+														: std::string("lw 2 lc palette");
+		next() << gp_string(dat_name) << " index " << k << " using 1:2" << (s.color.empty() ? "" : ":3") << " with "
+			   << (plot.with_points ? "linespoints pt 7 ps 0.5 " : "lines ") << style << " title " << gp_string(s.label);
 	}
-	for (const auto& ref : plot.references)
+	for (std::size_t j = 0; j < plot.references.size(); j++)
 	{
-		cmd << (first ? "" : ", \\\n     ") << format_significant(ref.value, 10) << " with lines dt 2 lw 2 title "
-			<< gp_string(ref.label + " (" + format_significant(ref.value, 6) + ")");
-		first = false;
+		const auto& ref = plot.references[j];
+		next() << format_significant(ref.value, 10) << " with lines dt 2 lw 2 lt "
+			   << plot.series.size() + j + 1 << " title "
+			   << gp_string(ref.label + " (" + format_significant(ref.value, 6) + ")");
 	}
 	if (first) cmd << "NaN notitle";
 	cmd << "\n";
 	return cmd.str();
+}
+
+/** The settings before the plot command: labels, key outside the data, ranges, colour bar. */
+void write_plot_settings(std::ostream& f, const LinePlot& plot)
+{
+	f << "set title " << gp_string(plot.title) << " noenhanced\n";
+	// The notes under the x label, left-aligned from the canvas edge (long lines stay readable).
+	if (!plot.notes.empty()) f << "set bmargin " << plot.notes.size() + 4 << "\n";
+	for (std::size_t i = 0; i < plot.notes.size(); i++)
+		f << "set label " << i + 1 << " " << gp_string(plot.notes[i]) << " at character 1, character "
+		  << plot.notes.size() - i << " left noenhanced\n";
+	f << "set xlabel " << gp_string(plot.xlabel) << " noenhanced\n";
+	f << "set ylabel " << gp_string(plot.ylabel) << " noenhanced\n";
+	f << "set grid\n";
+	bool coloured = false;
+	for (const auto& s : plot.series) coloured = coloured || !s.color.empty();
+	// Outside the plotting area so that it never hides data; above it when the colour bar takes the right.
+	f << (coloured ? "set key outside top center horizontal" : "set key outside right top vertical Left reverse")
+	  << " box opaque noenhanced\n";
+	if (plot.equal_axes)
+		f << "set size ratio -1\n";
+	else
+		f << "set offsets 0, 0, graph 0.05, graph 0.05\n";  // keep reference lines off the frame
+	const auto [xr, yr] = plot_ranges(plot);
+	const auto range = [](const AxisRange& r) {
+		return "[" + format_significant(r.min, 10) + ":" + format_significant(r.max, 10) + "]";
+	};
+	if (xr) f << "set xrange " << range(*xr) << "\n";
+	if (yr) f << "set yrange " << range(*yr) << "\n";
+	if (coloured)
+	{
+		f << "set palette defined (0 \"#0000c0\", 1 \"#00a0ff\", 2 \"#40c040\", 3 \"#ffc000\", 4 \"#e00000\")\n";
+		f << "set cblabel " << gp_string(plot.color_label) << " noenhanced\n";
+		if (plot.color_range) f << "set cbrange " << range(*plot.color_range) << "\n";
+	}
 }
 
 /** The script, run from inside the plot directory so that it refers to files by name only. */
@@ -108,14 +182,7 @@ void write_plot_script(const std::string& gp_path, const std::string& basename, 
 	const std::string gp_name = basename + ".gp";
 	write_file_atomically(gp_path, [&](std::ostream& f) {
 		f << "# generated by swba (swba::eval::plot_lines); run: cd <this dir> && gnuplot " << gp_name << "\n";
-		f << "set title " << gp_string(plot.title) << " noenhanced\n";
-		f << "set xlabel " << gp_string(plot.xlabel) << " noenhanced\n";
-		f << "set ylabel " << gp_string(plot.ylabel) << " noenhanced\n";
-		f << "set grid\nset key box opaque noenhanced\n";
-		if (plot.equal_axes)
-			f << "set size ratio -1\n";
-		else
-			f << "set offsets 0, 0, graph 0.05, graph 0.05\n";  // keep reference lines off the frame
+		write_plot_settings(f, plot);
 		const std::string cmd = plot_command(basename + ".dat", plot);
 		const std::string size = std::to_string(options.width_px) + "," + std::to_string(options.height_px);
 		if (options.png)
@@ -187,56 +254,41 @@ PlotOutput plot_lines(const std::string& dir, const std::string& basename, const
 	return out;
 }
 
-PlotOutput plot_trajectories_top_view(const std::string& dir, const std::string& basename,
-									  const LabelledTrajectory& reference,
-									  const std::vector<LabelledTrajectory>& estimates, const std::string& title,
-									  const PlotOptions& options)
+std::optional<AxisRange> data_range(const std::vector<double>& values, double margin)
 {
-	LinePlot p;
-	p.title = title;
-	p.xlabel = "x (m)";
-	p.ylabel = "y (m)";
-	p.equal_axes = true;
-	p.with_points = false;
-	auto add = [&](const LabelledTrajectory& t) {
-		PlotSeries s;
-		s.label = t.label;
-		for (const auto& pose : t.trajectory.poses)
+	std::optional<AxisRange> r;
+	for (double v : values)
+	{
+		if (!std::isfinite(v)) continue;
+		if (!r)
+			r = AxisRange{v, v};
+		else
+			r = AxisRange{std::min(r->min, v), std::max(r->max, v)};
+	}
+	if (!r) return r;
+	const double pad = (r->max > r->min ? r->max - r->min : std::max(std::abs(r->min), 1.0)) * margin;
+	return AxisRange{r->min - pad, r->max + pad};
+}
+
+std::pair<std::optional<AxisRange>, std::optional<AxisRange>> plot_ranges(const LinePlot& plot)
+{
+	bool any_clipped = false;
+	for (const auto& s : plot.series) any_clipped = any_clipped || s.clipped;
+	for (const auto& r : plot.references) any_clipped = any_clipped || r.clipped;
+	std::pair<std::optional<AxisRange>, std::optional<AxisRange>> out{plot.xrange, plot.yrange};
+	if (!any_clipped) return out;
+	std::vector<double> xs, ys;
+	for (const auto& s : plot.series)
+		if (!s.clipped)
 		{
-			s.x.push_back(pose.x());
-			s.y.push_back(pose.y());
+			xs.insert(xs.end(), s.x.begin(), s.x.end());
+			ys.insert(ys.end(), s.y.begin(), s.y.end());
 		}
-		p.series.push_back(std::move(s));
-	};
-	add(reference);
-	for (const auto& e : estimates) add(e);
-	return plot_lines(dir, basename, p, options);
-}
-
-PlotOutput plot_error_over_time(const std::string& dir, const std::string& basename, const MetricResult& result,
-								const PlotOptions& options)
-{
-	LinePlot p;
-	p.title = result.title;
-	p.xlabel = "t (s or step)";
-	p.ylabel = result.metric + " (" + result.unit + ")";
-	p.with_points = false;
-	p.series.push_back({result.metric + " " + pose_relation_name(result.relation), result.stamps, result.errors});
-	p.references.push_back({"rmse", result.stats.rmse});
-	return plot_lines(dir, basename, p, options);
-}
-
-PlotOutput plot_rmse_vs_window(const std::string& dir, const std::string& basename,
-							   const std::vector<PlotSeries>& series, const std::vector<ReferenceLine>& references,
-							   const std::string& title, const std::string& ylabel, const PlotOptions& options)
-{
-	LinePlot p;
-	p.title = title;
-	p.xlabel = "window size (poses)";
-	p.ylabel = ylabel;
-	p.series = series;
-	p.references = references;
-	p.with_points = true;
-	return plot_lines(dir, basename, p, options);
+	for (const auto& r : plot.references)
+		if (!r.clipped) ys.push_back(r.value);
+	for (const auto& b : plot.bands) ys.insert(ys.end(), {b.low, b.high});
+	if (!out.first) out.first = data_range(xs);
+	if (!out.second) out.second = data_range(ys);
+	return out;
 }
 }  // namespace swba::eval

@@ -1,4 +1,6 @@
 // swba run: the comparison table, ape.txt / ape.csv / summary.json, TUM files and plots.
+#include "plots.h"
+
 #include <swba/apps/run.h>
 #include <swba/core/file.h>
 #include <swba/eval/evaluation.h>
@@ -230,65 +232,6 @@ void write_run_files(const RunOptions& options, const std::vector<mrpt::poses::C
 					"# swba run: the options of this run (load with --config)\n" + format_run_config(options), report);
 }
 
-namespace
-{
-void add_plot_files(const eval::PlotOutput& o, RunReport& report)
-{
-	for (const auto& f : o.files) report.files.push_back(f);
-	if (!o.note.empty()) report.notes.push_back(o.note);
-}
-
-/** Top view: ground truth, each EKF, the largest window (online, first configuration), batch. */
-void plot_top_view(const std::string& dir, const std::vector<mrpt::poses::CPose3D>& gt, RunReport& report,
-				   const eval::PlotOptions& po)
-{
-	std::vector<eval::LabelledTrajectory> shown;
-	const RunRow* widest = nullptr;
-	for (const auto& r : report.rows)
-		if (r.name == "window" && r.trajectory == "online" && !r.failed && (!widest || r.window > widest->window))
-			widest = &r;
-	for (const auto& r : report.rows)
-		if (!r.estimate.empty() && (r.name == "ekf" || r.name == "batch" || &r == widest))
-			shown.push_back({r.label, r.estimate});
-	add_plot_files(eval::plot_trajectories_top_view(
-					   dir, "trajectories", {"ground truth", eval::ground_truth_trajectory(gt)}, shown,
-					   "trajectories (top view): " + mrpt::system::extractFileName(report.rawlog), po),
-				   report);
-}
-
-/** APE rmse vs W: one series per (policy, FEJ, online/lagged); EKF, batch, causal as reference lines. */
-void plot_ape_vs_window(const RunOptions& options, RunReport& report, const eval::PlotOptions& po)
-{
-	std::map<std::string, eval::PlotSeries> series;
-	std::vector<std::string> order;
-	std::vector<eval::ReferenceLine> refs;
-	for (const auto& r : report.rows)
-	{
-		if (!r.has_ape) continue;
-		if (r.name != "window")
-		{
-			refs.push_back({r.label, r.ape_trans.rmse});
-			continue;
-		}
-		std::string key = "window " + r.trajectory;
-		if (options.policies.size() * options.fej.size() > 1)
-			key += std::string(" ") + r.policy + " " + (r.fej && *r.fej ? "fej" : "nofej");
-		if (!series.count(key)) order.push_back(key);
-		auto& sr = series[key];
-		sr.label = key;
-		sr.x.push_back(r.window);
-		sr.y.push_back(r.ape_trans.rmse);
-	}
-	if (order.empty()) return;
-	std::vector<eval::PlotSeries> ordered;
-	for (const auto& k : order) ordered.push_back(series[k]);
-	add_plot_files(eval::plot_rmse_vs_window(options.out_dir, "ape_rmse_vs_window", ordered, refs,
-											 "APE rmse vs window size: " + mrpt::system::extractFileName(report.rawlog),
-											 "APE translation rmse (m)", po),
-				   report);
-}
-}  // namespace
-
 void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& gt, RunReport& report)
 {
 	const std::string& dir = options.out_dir;
@@ -305,7 +248,6 @@ void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses:
 		report.notes.push_back("gnuplot not found: no plots");
 		return;
 	}
-	plot_top_view(dir, gt, report, po);
-	plot_ape_vs_window(options, report, po);
+	write_run_plots(options, gt, report);
 }
 }  // namespace swba::apps

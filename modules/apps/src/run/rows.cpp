@@ -107,9 +107,11 @@ std::string one_line(const std::string& what)
 void compute_row_ape(RunRow& row, const std::vector<mrpt::poses::CPose3D>& gt)
 {
 	if (gt.empty() || row.failed || row.estimate.empty()) return;
-	const auto [trans, full] = eval::ape_against_ground_truth(gt, row.estimate);
-	row.ape_trans = trans;
-	row.ape_full = full;
+	row.ape_trans_errors =
+		eval::ape_errors_against_ground_truth(gt, row.estimate, eval::PoseRelation::TranslationPart);
+	row.ape_trans = eval::compute_statistics(row.ape_trans_errors);
+	row.ape_full = eval::compute_statistics(
+		eval::ape_errors_against_ground_truth(gt, row.estimate, eval::PoseRelation::FullTransformation));
 	row.has_ape = true;
 }
 

@@ -43,6 +43,7 @@ struct RunRow
 
 	bool has_ape = false;    ///< false without ground truth or when the estimator failed
 	eval::Statistics ape_trans, ape_full;  ///< APE translation part (m), full transformation (unit-less)
+	std::vector<double> ape_trans_errors;  ///< per pose of `estimate`: APE translation part (m), for the plots
 
 	double seconds = 0;      ///< wall time of the estimator (all its steps, or the batch solve)
 	double ms_per_step = 0;  ///< seconds·1000 / steps processed

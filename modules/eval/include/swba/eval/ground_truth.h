@@ -30,6 +30,10 @@ Trajectory ground_truth_trajectory(const std::vector<mrpt::poses::CPose3D>& rows
  * Throws std::runtime_error when a stamp is not a whole number ≥ 1 or its row does not exist. */
 Trajectory paired_ground_truth(const std::vector<mrpt::poses::CPose3D>& rows, const Trajectory& estimate);
 
+/** APE per pose (not aligned) of `estimate` against the paired ground truth, one per estimate pose. */
+std::vector<double> ape_errors_against_ground_truth(const std::vector<mrpt::poses::CPose3D>& rows,
+													 const Trajectory& estimate, PoseRelation relation);
+
 /** APE (not aligned) of `estimate` against the paired ground truth: {translation part, full transformation}. */
 std::pair<Statistics, Statistics> ape_against_ground_truth(
 	const std::vector<mrpt::poses::CPose3D>& rows, const Trajectory& estimate);

@@ -1,0 +1,18 @@
+// swba run: the plots of the output directory (internal to the run app; see doc/run.md "Output").
+#pragma once
+
+#include <swba/apps/run.h>
+
+namespace swba::apps
+{
+/** A row whose APE rmse is at least this many times the best row's is "diverged": drawn clipped. */
+constexpr double kDivergedFactor = 10.0;
+
+/** Writes the plots of a run with ground truth (gnuplot must be found; see write_run_outputs): the
+ * top view, APE rmse vs W, and under plots/ the error over time of every row with APE and the
+ * colormap top view of the rows in the top view. Failed rows are not drawn; diverged rows are drawn
+ * clipped (they never set an axis range). Either gets a line in each summary plot and a note in
+ * report.notes. Files go to report.files. */
+void write_run_plots(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& ground_truth,
+					 RunReport& report);
+}  // namespace swba::apps
