@@ -4,6 +4,8 @@
 #include <iostream>
 #include <string>
 
+#include <swba/io/rawlog.h>
+
 #include "cli.h"
 #include "command.h"
 
@@ -59,7 +61,9 @@ int main(int argc, char** argv)
 	}
 	catch (const std::exception& e)
 	{
-		std::cerr << prog << ": error: " << e.what() << "\n";
+		// One line, printable: an MRPT exception carries a call stack with addresses, and a message may
+		// quote bytes read from a file.
+		std::cerr << prog << ": error: " << swba::io::mrpt_exception_summary(e.what()) << "\n";
 		return 1;
 	}
 }
