@@ -17,17 +17,17 @@ std::optional<int> parse_command_line(TCLAP::CmdLine& cmd, int argc, char** argv
  * from the executable's own path), else the source tree's share/. */
 std::string share_dir();
 
-/** `--threads N` of the solver commands: "threads for evaluation and assembly (default 1)". */
+/** `--threads N` of the solver commands: "threads for evaluation and assembly (Default: 1)". */
 inline TCLAP::ValueArg<int> threads_arg(TCLAP::CmdLine& cmd)
 {
-	return TCLAP::ValueArg<int>("", "threads", "threads for evaluation and assembly (default 1)", false, 1, "N", cmd);
+	return TCLAP::ValueArg<int>("", "threads", "threads for evaluation and assembly (Default: 1)", false, 1, "N", cmd);
 }
 
-/** `--<flag> K`: "maximum LM iterations (default <default_value>)". */
+/** `--<flag> K`: "maximum LM iterations (Default: <default_value>)". */
 inline TCLAP::ValueArg<int> max_iterations_arg(TCLAP::CmdLine& cmd, int default_value,
 											   const std::string& flag = "max-iterations")
 {
-	return TCLAP::ValueArg<int>("", flag, "maximum LM iterations (default " + std::to_string(default_value) + ")",
+	return TCLAP::ValueArg<int>("", flag, "maximum LM iterations (Default: " + std::to_string(default_value) + ")",
 								false, default_value, "K", cmd);
 }
 

@@ -22,21 +22,21 @@ struct BalCommandLine
 	TCLAP::ValueArg<std::string> ply_final{"", "ply-final", "write the solution as PLY", false, "", "FILE", cmd};
 	TCLAP::ValueArg<std::string> write_problem{
 		"", "write-problem", "write the solution in the BAL format", false, "", "OUT", cmd};
-	TCLAP::ValueArg<int> threads{"", "threads", "threads for evaluation and Schur assembly (default 2)", false, 2, "N", cmd};
-	TCLAP::ValueArg<int> max_iterations{"", "max-iterations", "LM iteration limit (default 50)", false, 50, "K", cmd};
+	TCLAP::ValueArg<int> threads{"", "threads", "threads for evaluation and Schur assembly (Default: 2)", false, 2, "N", cmd};
+	TCLAP::ValueArg<int> max_iterations{"", "max-iterations", "LM iteration limit (Default: 50)", false, 50, "K", cmd};
 	TCLAP::ValueArg<std::string> linear{"", "linear",
-										"reduced camera system: dense-schur, sparse-schur (CHOLMOD) or auto (default: "
+										"reduced camera system: dense-schur, sparse-schur (CHOLMOD) or auto (Default: "
 										"dense up to 1500 unknowns)",
 										false, "auto", "dense-schur|sparse-schur|auto", cmd};
 	TCLAP::ValueArg<std::string> loss{
-		"", "loss", "robust loss: none, huber or cauchy (default none)", false, "none", "none|huber|cauchy", cmd};
-	TCLAP::ValueArg<double> loss_scale{"", "loss-scale", "loss scale in pixels (default 1)", false, 1.0, "S", cmd};
+		"", "loss", "robust loss: none, huber or cauchy (Default: none)", false, "none", "none|huber|cauchy", cmd};
+	TCLAP::ValueArg<double> loss_scale{"", "loss-scale", "loss scale in pixels (Default: 1)", false, 1.0, "S", cmd};
 	TCLAP::ValueArg<double> ftol{
-		"", "function-tolerance", "stop when |Δcost|/cost < this (default 1e-6)", false, 1e-6, "TOL", cmd};
+		"", "function-tolerance", "stop when |Δcost|/cost < this (Default: 1e-6)", false, 1e-6, "TOL", cmd};
 	TCLAP::ValueArg<double> gtol{
-		"", "gradient-tolerance", "stop when max|gradient| ≤ this (default 1e-10)", false, 1e-10, "TOL", cmd};
+		"", "gradient-tolerance", "stop when max|gradient| ≤ this (Default: 1e-10)", false, 1e-10, "TOL", cmd};
 	TCLAP::ValueArg<double> ptol{
-		"", "parameter-tolerance", "stop when |step| ≤ this·(|x| + this) (default 1e-8)", false, 1e-8, "TOL", cmd};
+		"", "parameter-tolerance", "stop when |step| ≤ this·(|x| + this) (Default: 1e-8)", false, 1e-8, "TOL", cmd};
 	TCLAP::SwitchArg quiet{"", "quiet", "do not print the per-iteration table", cmd};
 };
 

@@ -21,15 +21,15 @@ struct DirectbaCommandLine
 	TCLAP::UnlabeledValueArg<std::string> dir{"dir", "data set directory (not with --synthetic)", false, "", "DIR", cmd};
 	TCLAP::ValueArg<int> iterations = swba::app::max_iterations_arg(cmd, 50, "iterations");
 	TCLAP::ValueArg<double> sigma{
-		"", "sigma", "photometric noise sigma in gray levels (default 10)", false, 10.0, "S", cmd};
+		"", "sigma", "photometric noise sigma in gray levels (Default: 10)", false, 10.0, "S", cmd};
 	TCLAP::ValueArg<double> huber_delta{"", "huber-delta",
 										"Huber threshold on the whitened patch residual norm |r|/sigma; 0 disables it "
-										"(default sqrt(chi2_16(0.95)) = sqrt(26.296) = 5.128)",
+										"(Default: sqrt(chi2_16(0.95)) = sqrt(26.296) = 5.128)",
 										false, std::sqrt(swba::kChi2Patch95), "D", cmd};
 	TCLAP::ValueArg<int> fixed_cameras{
 		"", "fixed-cameras", "hold the first N cameras constant (gauge; default 1, --synthetic: 2)", false, -1, "N", cmd};
 	TCLAP::ValueArg<int> border{
-		"", "border", "margin in pixels between a patch and the image edge (default 1)", false, 1, "B", cmd};
+		"", "border", "margin in pixels between a patch and the image edge (Default: 1)", false, 1, "B", cmd};
 	TCLAP::ValueArg<int> threads = swba::app::threads_arg(cmd);
 	TCLAP::ValueArg<std::string> ply_initial{
 		"", "ply-initial", "write the initial cameras and points as PLY", false, "", "F.ply", cmd};

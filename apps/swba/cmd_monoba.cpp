@@ -19,35 +19,35 @@ struct MonobaCommandLine
 		"--sweep-prior-weights runs W over 0, 1, 10, ..., 1e10 plus free and fixed reference rows. "
 		"See doc/monoba.md.",
 		' ', "0.1.0"};
-	TCLAP::ValueArg<int> cameras{"", "cameras", "number of cameras N >= 2 (default 3)", false, 3, "N", cmd};
-	TCLAP::ValueArg<int> points{"", "points", "number of points M >= 1 (default 20)", false, 20, "M", cmd};
+	TCLAP::ValueArg<int> cameras{"", "cameras", "number of cameras N >= 2 (Default: 3)", false, 3, "N", cmd};
+	TCLAP::ValueArg<int> points{"", "points", "number of points M >= 1 (Default: 20)", false, 20, "M", cmd};
 	TCLAP::ValueArg<double> noise{"", "noise",
-								  "observation noise sigma on the normalised image plane (default 1/460 = "
+								  "observation noise sigma on the normalised image plane (Default: 1/460 = "
 								  "0.00217391, one pixel at f = 460 px)",
 								  false, 1.0 / 460.0, "S", cmd};
 	TCLAP::ValueArg<double> depth_noise{
-		"", "depth-noise", "sigma of the initial depth perturbation, m (default 1)", false, 1.0, "S", cmd};
+		"", "depth-noise", "sigma of the initial depth perturbation, m (Default: 1)", false, 1.0, "S", cmd};
 	TCLAP::ValueArg<double> pose_noise_m{
-		"", "pose-noise-m", "initial translation noise sigma of cameras >= K, m (default 0)", false, 0.0, "S", cmd};
+		"", "pose-noise-m", "initial translation noise sigma of cameras >= K, m (Default: 0)", false, 0.0, "S", cmd};
 	TCLAP::ValueArg<double> pose_noise_rad{
-		"", "pose-noise-rad", "initial rotation noise sigma of cameras >= K, rad (default 0)", false, 0.0, "S", cmd};
-	TCLAP::ValueArg<long long> seed{"", "seed", "RNG seed (default 0)", false, 0, "K", cmd};
+		"", "pose-noise-rad", "initial rotation noise sigma of cameras >= K, rad (Default: 0)", false, 0.0, "S", cmd};
+	TCLAP::ValueArg<long long> seed{"", "seed", "RNG seed (Default: 0)", false, 0, "K", cmd};
 	TCLAP::ValueArg<std::string> gauge{
-		"", "gauge", "gauge handling: free, fixed or prior (default fixed)", false, "fixed", "free|fixed|prior", cmd};
+		"", "gauge", "gauge handling: free, fixed or prior (Default: fixed)", false, "fixed", "free|fixed|prior", cmd};
 	TCLAP::ValueArg<int> fix{"", "fix",
 							 "K: number of leading poses held constant (fixed) or under the prior (prior, sweep); "
-							 "1 <= K <= N (default 2: removes the 7-DoF gauge incl. scale)",
+							 "1 <= K <= N (Default: 2: removes the 7-DoF gauge incl. scale)",
 							 false, 2, "K", cmd};
 	TCLAP::ValueArg<double> prior_weight{
-		"", "prior-weight", "W >= 0: prior information W*I on each of the first K poses (default 1e4)", false, 1e4,
+		"", "prior-weight", "W >= 0: prior information W*I on each of the first K poses (Default: 1e4)", false, 1e4,
 		"W", cmd};
 	TCLAP::SwitchArg sweep{"", "sweep-prior-weights",
 						   "run the prior-weight sweep (W = 0, 1, 10, ..., 1e10, plus free and fixed rows) and print "
 						   "the table",
 						   cmd};
-	TCLAP::ValueArg<int> seeds{"", "seeds", "sweep: average over seeds K..K+S-1 (default 1)", false, 1, "S", cmd};
+	TCLAP::ValueArg<int> seeds{"", "seeds", "sweep: average over seeds K..K+S-1 (Default: 1)", false, 1, "S", cmd};
 	TCLAP::ValueArg<int> repetitions{
-		"", "repetitions", "solves per run for the median time (default 1)", false, 1, "R", cmd};
+		"", "repetitions", "solves per run for the median time (Default: 1)", false, 1, "R", cmd};
 	TCLAP::ValueArg<std::string> out{
 		"", "out", "also write the report / sweep table to this file", false, "", "FILE", cmd};
 	TCLAP::ValueArg<int> max_iterations = swba::app::max_iterations_arg(cmd, 50);
