@@ -37,7 +37,7 @@ struct BalCommandLine
 		"", "gradient-tolerance", "stop when max|gradient| ≤ this (Default: 1e-10)", false, 1e-10, "TOL", cmd};
 	TCLAP::ValueArg<double> ptol{
 		"", "parameter-tolerance", "stop when |step| ≤ this·(|x| + this) (Default: 1e-8)", false, 1e-8, "TOL", cmd};
-	TCLAP::SwitchArg quiet{"", "quiet", "do not print the per-iteration table", cmd};
+	TCLAP::SwitchArg quiet{"q", "quiet", "do not print the per-iteration table", cmd};
 };
 
 swba::apps::BalAppOptions options_from(BalCommandLine& a)

@@ -145,3 +145,7 @@ foreach(_sig_rc INT:130 TERM:143)
   set_tests_properties(runapp.e2e.interrupted_by_sig${_sig} PROPERTIES PASS_REGULAR_EXPRESSION "OK: exit ${_rc}"
     TIMEOUT 120)
 endforeach()
+# -q is --quiet in every solver command that documents it (doc/cli.md).
+foreach(_c bal pgo directba)
+  swba_cli_case(quiet_short_form_${_c} 0 REGEX "-q, +--quiet" ARGS ${_c} --help)
+endforeach()
