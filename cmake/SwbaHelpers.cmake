@@ -5,7 +5,10 @@ include(GNUInstallDirs)
 # dependency: libraries link it as $<BUILD_INTERFACE:swba_build_flags> and it is not installed, so the
 # exported swba::<module> targets never carry these flags into a user's build.
 add_library(swba_build_flags INTERFACE)
-target_compile_options(swba_build_flags INTERFACE -Wall -Wextra -Wpedantic -Wshadow=local)
+target_compile_options(swba_build_flags INTERFACE -Wall -Wextra -Wpedantic)
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")  # clang has no -Wshadow=local (the fuzz build uses clang)
+  target_compile_options(swba_build_flags INTERFACE -Wshadow=local)
+endif()
 if(SWBA_WERROR)
   target_compile_options(swba_build_flags INTERFACE -Werror)
 endif()
