@@ -16,6 +16,14 @@ if(SWBA_SANITIZE)
   target_compile_options(swba_build_flags INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   target_link_options(swba_build_flags INTERFACE -fsanitize=address,undefined)
 endif()
+# A fuzzing build (clang, SWBA_FUZZ and SWBA_SANITIZE, see fuzz/CMakeLists.txt) gives libFuzzer the
+# coverage of swba's own code: every target gets the coverage instrumentation (fuzzer-no-link), whose
+# callbacks the sanitizer runtime already linked into every executable provides.
+set(SWBA_FUZZ_INSTRUMENT OFF)
+if(SWBA_FUZZ AND SWBA_SANITIZE AND CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+  set(SWBA_FUZZ_INSTRUMENT ON)
+  target_compile_options(swba_build_flags INTERFACE -fsanitize=fuzzer-no-link)
+endif()
 
 # swba_add_module(<name> DEPS <targets...> PRIVATE_DEPS <targets...>)
 #   Builds modules/<name>/src/*.cpp into the static library swba_<name> (alias swba::<name>, exported
