@@ -67,7 +67,7 @@ for r in "${readers[@]}"; do
 	[ "$new" -gt 0 ] && status=1
 	# Triage: replay each new input once; print the sanitizer's summary and where it happened.
 	for f in $(comm -13 <(echo "$before_list") <(find "$findings" -type f | sort)); do
-		out=$(timeout 60 "$build/fuzz/swba_fuzz_$r" -rss_limit_mb=2048 -malloc_limit_mb=2048 "$f" 2>&1 || true)
+		out=$(timeout 60 "$build/fuzz/swba_fuzz_$r" -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=10 "$f" 2>&1 || true)
 		what=$(grep -m1 -E '^SUMMARY|ERROR: libFuzzer' <<<"$out" | cut -c1-120 || true)
 		frame=$(grep -E '^ +#[0-9]+ ' <<<"$out" | grep -vE 'operator new|__asan|__interceptor|libFuzzer|fuzzer::' |
 			grep -m1 -E 'libmrpt|/modules/|/fuzz/fuzz_' || true)
