@@ -5,13 +5,24 @@ include(GNUInstallDirs)
 # dependency: libraries link it as $<BUILD_INTERFACE:swba_build_flags> and it is not installed, so the
 # exported swba::<module> targets never carry these flags into a user's build.
 add_library(swba_build_flags INTERFACE)
-target_compile_options(swba_build_flags INTERFACE -Wall -Wextra -Wpedantic -Wshadow=local)
+target_compile_options(swba_build_flags INTERFACE -Wall -Wextra -Wpedantic)
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")  # clang has no -Wshadow=local (the fuzz build uses clang)
+  target_compile_options(swba_build_flags INTERFACE -Wshadow=local)
+endif()
 if(SWBA_WERROR)
   target_compile_options(swba_build_flags INTERFACE -Werror)
 endif()
 if(SWBA_SANITIZE)
   target_compile_options(swba_build_flags INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   target_link_options(swba_build_flags INTERFACE -fsanitize=address,undefined)
+endif()
+# A fuzzing build (clang, SWBA_FUZZ and SWBA_SANITIZE, see fuzz/CMakeLists.txt) gives libFuzzer the
+# coverage of swba's own code: every target gets the coverage instrumentation (fuzzer-no-link), whose
+# callbacks the sanitizer runtime already linked into every executable provides.
+set(SWBA_FUZZ_INSTRUMENT OFF)
+if(SWBA_FUZZ AND SWBA_SANITIZE AND CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+  set(SWBA_FUZZ_INSTRUMENT ON)
+  target_compile_options(swba_build_flags INTERFACE -fsanitize=fuzzer-no-link)
 endif()
 
 # swba_add_module(<name> DEPS <targets...> PRIVATE_DEPS <targets...>)

@@ -178,6 +178,17 @@ TEST(BalReader, RejectsMalformedInputWithTheLine)
 	EXPECT_NE(what.find("missing point 1 coordinate 2"), std::string::npos) << what;
 }
 
+// Found by fuzz_bal: the header's counts sized the arrays before any data was read, so a 20-byte
+// file declaring 10^9 observations (or cameras) asked for tens of GB. It is now a truncation error.
+TEST(BalReader, HugeDeclaredCountsAreATruncationNotAnAllocation)
+{
+	std::string what;
+	EXPECT_EQ(error_line("1 1 1000000000\n0 0 1 2\n", &what), 3);
+	EXPECT_NE(what.find("declares 1000000000 observations, found only 1"), std::string::npos) << what;
+	EXPECT_EQ(error_line("1000000000 1 1\n0 0 1 2\n0.5\n", &what), 4);
+	EXPECT_NE(what.find("truncated"), std::string::npos) << what;
+}
+
 TEST(BalReader, ReportsMissingFileAndUnsupportedCompression)
 {
 	EXPECT_THROW(swba::io::read_bal("/nonexistent/problem.txt"), std::runtime_error);

@@ -90,7 +90,10 @@ std::string quoted(std::string_view t)
 class Parser
 {
    public:
-	Parser(const std::string& text, std::string source) : scan_(text), source_(std::move(source)) {}
+	Parser(const std::string& text, std::string source)
+		: scan_(text), source_(std::move(source)), text_size_(text.size())
+	{
+	}
 
 	BalProblem parse()
 	{
@@ -105,7 +108,10 @@ class Parser
 		bal.num_points = parse_count(tok[1], line, "num_points");
 		const int num_obs = parse_count(tok[2], line, "num_observations");
 
-		bal.observations.resize(static_cast<size_t>(num_obs));
+		// The header's counts do not size allocations: a 20-byte file can declare 10^9 observations.
+		// Storage grows with the data actually read, reserved up to what the text can hold (an
+		// observation line takes at least 8 bytes, a parameter 2), so memory stays proportional to the input.
+		bal.observations.reserve(std::min(static_cast<size_t>(num_obs), text_size_ / 8));
 		for (int k = 0; k < num_obs; k++)
 		{
 			if (!scan_.next_line(tok, line))
@@ -115,7 +121,7 @@ class Parser
 				fail(line, "expected observation " + std::to_string(k + 1) + " of " + std::to_string(num_obs) +
 							   " as 'camera point x y', found " + std::to_string(tok.size()) +
 							   " values (count mismatch with the header?)");
-			BalObservation& o = bal.observations[static_cast<size_t>(k)];
+			BalObservation& o = bal.observations.emplace_back();
 			o.camera = parse_index(tok[0], line, "camera", bal.num_cameras);
 			o.point = parse_index(tok[1], line, "point", bal.num_points);
 			o.x = parse_number(tok[2], line);
@@ -124,8 +130,8 @@ class Parser
 
 		const size_t num_cam_values = BalProblem::kCameraParams * static_cast<size_t>(bal.num_cameras);
 		const size_t num_point_values = BalProblem::kPointParams * static_cast<size_t>(bal.num_points);
-		bal.cameras.resize(num_cam_values);
-		bal.points.resize(num_point_values);
+		bal.cameras.reserve(std::min(num_cam_values, text_size_ / 2));
+		bal.points.reserve(std::min(num_point_values, text_size_ / 2));
 		const size_t total = num_cam_values + num_point_values;
 		std::string_view t;
 		for (size_t i = 0; i < total; i++)
@@ -148,9 +154,9 @@ class Parser
 			}
 			const double v = parse_number(t, line);
 			if (i < num_cam_values)
-				bal.cameras[i] = v;
+				bal.cameras.push_back(v);
 			else
-				bal.points[i - num_cam_values] = v;
+				bal.points.push_back(v);
 		}
 		if (scan_.next(t, line))
 			fail(line, "count mismatch: extra data " + quoted(t) + " after the " + std::to_string(bal.num_cameras) +
@@ -200,6 +206,7 @@ class Parser
 
 	Scanner scan_;
 	std::string source_;
+	size_t text_size_;
 };
 
 #ifdef SWBA_HAVE_BZIP2

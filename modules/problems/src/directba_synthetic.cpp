@@ -23,7 +23,6 @@ constexpr double kPi = 3.14159265358979323846;
 // the two step faces joining them (planes 3, 4; points are never taken on those). Depths 1.8–2.4 m.
 constexpr double kStripX[2] = {-0.5, 0.6};          // strip borders in x
 constexpr double kStripZ[3] = {2.1, 1.8, 2.4};      // depth of each strip
-constexpr int kNumScenePlanes = 5;
 mrpt::poses::CPose3D make_pose(const Eigen::Matrix3d& R, const Eigen::Vector3d& t)
 {
 	mrpt::math::CMatrixDouble33 M;

@@ -142,7 +142,10 @@ struct Rawlog
  * boundary, through the gzip trailer's size); it yields no step; no step has odometry; no step has
  * a valid range-bearing reading; an odometry mean or covariance is not finite, or a covariance has
  * a negative variance; a sensory frame holds several bearing-range observations with different
- * sensor poses. Single invalid readings are dropped and counted (see RawlogStep::skipped_readings). */
+ * sensor poses. Single invalid readings are dropped and counted (see RawlogStep::skipped_readings).
+ * Untrusted files: MRPT 2.5's deserialisation allocates whatever a corrupt length or count field asks
+ * for (gigabytes from a few hundred bytes; reproducers in fuzz/findings/mrpt/), before any check here
+ * can run: read such files under a memory limit. */
 Rawlog read_rawlog(const std::string& path, const RawlogReaderOptions& options = {});
 
 /** One line from an exception text: for MRPT's ("==== MRPT exception ====", "Message: …",

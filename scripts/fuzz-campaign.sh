@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# Fuzzing campaign over swba's readers (doc/fuzzing.md).
+#   scripts/fuzz-campaign.sh [SECONDS] [READER...]
+# SECONDS per harness (default 30: a smoke run CI can afford); READERs among
+# tum ground_truth g2o bal ini rawlog directba (default: all, one after the other).
+# Configures and builds build-fuzz/ with clang (libFuzzer + ASan/UBSan), then runs each harness
+# nice'd on one core in libFuzzer's fork mode (-fork=1: one worker at a time, restarted after an
+# out-of-memory or timeout input so that those are counted instead of ending the run; a crash ends it,
+# except for rawlog: MRPT 2.5 allocates whatever a corrupt length field asks for, which ASan reports as
+# a crash, so that harness keeps going and every failing input is triaged after the run — its ASan
+# summary and the first frame in MRPT or swba — see doc/fuzzing.md).
+# Each harness works on build-fuzz/corpus-work/<reader>/ (seeded from fuzz/corpus/<reader>/ and
+# fuzz/regressions/<reader>/, which are only read); failing inputs land in build-fuzz/findings/<reader>/.
+# Prints per harness: executions, exec/s, coverage, findings; exit status 1 if any harness had a finding.
+# Environment: FUZZ_EXTRA_ARGS (more libFuzzer flags), FUZZ_BUILD_JOBS (default 2), FUZZ_NO_BUILD=1
+# (run the binaries already in build-fuzz/ without configuring or building).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+seconds=${1:-30}
+[ $# -gt 0 ] && shift
+readers=("$@")
+[ ${#readers[@]} -eq 0 ] && readers=(tum ground_truth g2o bal ini rawlog directba)
+
+build=build-fuzz
+if [ -z "${FUZZ_NO_BUILD:-}" ]; then
+	CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSWBA_FUZZ=ON -DSWBA_SANITIZE=ON \
+		-DSWBA_WERROR=ON -DSWBA_BUILD_TESTS=OFF -DSWBA_BUILD_BENCH=OFF >/dev/null
+	targets=()
+	for r in "${readers[@]}"; do targets+=(--target "swba_fuzz_$r"); done
+	nice cmake --build "$build" -j "${FUZZ_BUILD_JOBS:-2}" "${targets[@]}"
+fi
+
+# Leaks are findings too; MRPT's own one-off allocations are not reported as leaks at exit (no
+# suppressions are needed so far: add them to fuzz/lsan.supp, with the reason, if that changes).
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=0}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+
+status=0
+summary=()
+for r in "${readers[@]}"; do
+	work=$build/corpus-work/$r
+	findings=$build/findings/$r
+	mkdir -p "$work" "$findings"
+	cp -n fuzz/corpus/"$r"/* "$work"/ 2>/dev/null || true
+	extra_dirs=()
+	[ -d fuzz/regressions/"$r" ] && extra_dirs+=(fuzz/regressions/"$r")
+	log=$build/fuzz-$r.log
+	before_list=$(find "$findings" -type f | sort)
+	before=$(wc -l <<<"$before_list")
+	[ -z "$before_list" ] && before=0
+	keep_going=()
+	[ "$r" = rawlog ] && keep_going=(-ignore_crashes=1)
+	echo "== $r: ${seconds}s, log $log"
+	# shellcheck disable=SC2086
+	nice -n 10 "$build/fuzz/swba_fuzz_$r" "$work" "${extra_dirs[@]}" -fork=1 -ignore_ooms=1 -ignore_timeouts=1 "${keep_going[@]}" \
+		-max_total_time="$seconds" -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=10 \
+		-artifact_prefix="$findings/" -print_final_stats=1 ${FUZZ_EXTRA_ARGS:-} >"$log" 2>&1 || status=1
+	# Fork mode's progress lines: "#<execs>: cov: C ft: F corp: N exec/s E oom/timeout/crash: O/T/X time: Ss ..."
+	last=$(grep -E '^#[0-9]+: cov: ' "$log" | tail -n 1 || true)
+	execs=$(sed -E 's/^#([0-9]+):.*/\1/' <<<"$last")
+	cov=$(sed -E 's/.* cov: ([0-9]+).*/\1/' <<<"$last")
+	secs=$(sed -E 's/.* time: ([0-9]+)s.*/\1/' <<<"$last")
+	eps=$([ -n "$execs" ] && [ "${secs:-0}" -gt 0 ] && echo $((execs / secs)) || echo "?")  # the line's own exec/s is the last job's
+	otc=$(sed -E 's/.* oom\/timeout\/crash: ([0-9\/]+).*/\1/' <<<"$last")
+	new=$(($(find "$findings" -type f | wc -l) - before))
+	[ "$new" -gt 0 ] && status=1
+	# Triage: replay each new input once; print the sanitizer's summary and where it happened.
+	for f in $(comm -13 <(echo "$before_list") <(find "$findings" -type f | sort)); do
+		out=$(timeout 60 "$build/fuzz/swba_fuzz_$r" -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=10 "$f" 2>&1 || true)
+		what=$(grep -m1 -E '^SUMMARY|ERROR: libFuzzer' <<<"$out" | cut -c1-120 || true)
+		frame=$(grep -E '^ +#[0-9]+ ' <<<"$out" | grep -vE 'operator new|__asan|__interceptor|libFuzzer|fuzzer::' |
+			grep -m1 -E 'libmrpt|/modules/|/fuzz/fuzz_' || true)
+		module=$(grep -oE 'libmrpt[^+ )]*' <<<"$frame" | head -n 1 || true)
+		where="${module:+$module: }$(sed -E 's/^ +#[0-9]+ 0x[0-9a-f]+ in //' <<<"$frame" | cut -c1-110)"
+		echo "  finding $f: ${what:-no failure when replayed alone}${frame:+ | $where}"
+	done
+	summary+=("$(printf '%-13s executions %-10s in %5ss  exec/s %-6s cov %-6s oom/timeout/crash %-7s new files in %s: %s' \
+		"$r" "${execs:-?}" "${secs:-?}" "$eps" "${cov:-?}" "${otc:-?}" "$findings" "$new")")
+done
+echo
+printf '%s\n' "${summary[@]}"
+exit $status
