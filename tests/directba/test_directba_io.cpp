@@ -189,3 +189,29 @@ TEST(DirectBAIO, TumWriterWritesWorldFromCameraPoses)
 	fs::remove(p);
 	EXPECT_THROW(io::write_directba_tum("/nonexistent/dir/x.txt", {0}, {poses[0]}), std::runtime_error);
 }
+
+TEST(DirectBAIO, APngDeclaringGigabytesIsRefusedBeforeDecoding)
+{
+	// Signature and an IHDR chunk declaring 20000 × 20000 8-bit gray pixels (a few hundred kilobytes
+	// of deflated zeros can carry them): refused from the header, whatever follows.
+	const fs::path png = fs::temp_directory_path() / ("swba_png_bomb_" + std::to_string(getpid()) + ".png");
+	{
+		std::ofstream f(png, std::ios::binary);
+		const unsigned char bytes[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
+									   0, 0, 0x4e, 0x20, 0, 0, 0x4e, 0x20, 8, 0, 0, 0, 0, 0, 0, 0, 0};
+		f.write(reinterpret_cast<const char*>(bytes), sizeof bytes);
+	}
+	try
+	{
+		swba::io::load_intensity_image(png.string());
+		ADD_FAILURE() << "decoded";
+	}
+	catch (const std::runtime_error& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("declares 20000x20000 pixels, more than the image memory budget of 256 MiB"),
+				  std::string::npos)
+			<< e.what();
+	}
+	fs::remove(png);
+	EXPECT_EQ(swba::io::image_memory_budget(1000), (std::uint64_t(256) << 20) + 64000);
+}

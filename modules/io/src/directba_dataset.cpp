@@ -1,15 +1,19 @@
 #include <swba/io/directba_dataset.h>
 
 #include <swba/core/file.h>
+#include <swba/core/memory_budget.h>
 
 #include <mrpt/img/CImage.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <new>
 #include <sstream>
 #include <stdexcept>
 #include <sys/stat.h>
@@ -58,7 +62,42 @@ std::ifstream open_or_throw(const std::string& path)
 	if (!file_exists(path)) throw std::runtime_error(path + ": file not found");
 	return open_input_file(path);
 }
+std::uint64_t file_size_or_zero(const std::string& path)
+{
+	std::error_code ec;
+	const auto n = std::filesystem::file_size(path, ec);
+	return ec ? 0 : static_cast<std::uint64_t>(n);
+}
+
+/** A PNG's declared pixels must fit the budget (8 bytes per pixel covers the decoded image at up to
+ * 16 bits × 4 channels, or the float intensity image): checked on the IHDR chunk before any decoder
+ * allocates the declared size. Not a PNG, or too short to tell: left to the decoder. */
+void check_png_declared_size(const std::string& path, std::uint64_t budget)
+{
+	std::ifstream f(path, std::ios::binary);
+	unsigned char h[24] = {};
+	if (!f.read(reinterpret_cast<char*>(h), sizeof h)) return;
+	static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+	if (!std::equal(sig, sig + 8, h) || std::string(reinterpret_cast<const char*>(h + 12), 4) != "IHDR") return;
+	auto be32 = [&](int i) {
+		return (std::uint64_t(h[i]) << 24) | (std::uint64_t(h[i + 1]) << 16) | (std::uint64_t(h[i + 2]) << 8) |
+			std::uint64_t(h[i + 3]);
+	};
+	const std::uint64_t w = be32(16), ht = be32(20);
+	if (w * ht * 8 > budget)
+		throw std::runtime_error(path + ": declares " + std::to_string(w) + "x" + std::to_string(ht) +
+								 " pixels, more than the image memory budget of " + std::to_string(budget >> 20) +
+								 " MiB allows (corrupt, or a decompression bomb)");
+}
 }  // namespace
+
+std::uint64_t image_memory_budget(std::uint64_t file_bytes)
+{
+	constexpr std::uint64_t kBase = std::uint64_t(256) << 20;
+	constexpr std::uint64_t kPerByte = 64;
+	if (file_bytes > (~std::uint64_t(0) - kBase) / kPerByte) return ~std::uint64_t(0) - 1;
+	return kBase + kPerByte * file_bytes;
+}
 
 PinholeIntrinsics directba_dataset_intrinsics()
 {
@@ -73,11 +112,19 @@ PinholeIntrinsics directba_dataset_intrinsics()
 IntensityImage load_intensity_image(const std::string& path)
 {
 	if (!file_exists(path)) throw std::runtime_error(path + ": image file not found");
+	const std::uint64_t budget = image_memory_budget(file_size_or_zero(path));
+	check_png_declared_size(path, budget);
 	mrpt::img::CImage img;
 	bool ok = false;
 	try
 	{
+		const ScopedMemoryBudget guard(budget);  // other formats, and decoders' own buffers
 		ok = img.loadFromFile(path);
+	}
+	catch (const std::bad_alloc&)
+	{
+		throw std::runtime_error(path + ": decoding needs more than the image memory budget of " +
+								 std::to_string(budget >> 20) + " MiB (corrupt, or a decompression bomb)");
 	}
 	catch (const std::exception& e)
 	{

@@ -1,6 +1,7 @@
 #include <swba/io/rawlog.h>
 
 #include <swba/core/file.h>
+#include <swba/core/memory_budget.h>
 
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
@@ -12,7 +13,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -38,6 +41,42 @@ bool gzip_trailer_size(const std::string& path, uint32_t& isize)
 	isize = uint32_t(b[0]) | (uint32_t(b[1]) << 8) | (uint32_t(b[2]) << 16) | (uint32_t(b[3]) << 24);
 	return true;
 }
+
+/** Bytes of serialised data in the file: its size, or for gzip its decompressed size (counted by
+ * decompressing it, since the trailer's size is only mod 2^32 and comes from the file itself). */
+std::uint64_t rawlog_data_size(const std::string& path)
+{
+	uint32_t isize = 0;
+	if (!gzip_trailer_size(path, isize))
+	{
+		std::error_code ec;
+		const auto size = std::filesystem::file_size(path, ec);
+		return ec ? 0 : static_cast<std::uint64_t>(size);
+	}
+	mrpt::io::CFileGZInputStream f;
+	std::string error;
+	if (!f.open(path, error)) return 0;
+	std::vector<char> buffer(1 << 20);
+	std::uint64_t total = 0;
+	for (;;)
+	{
+		std::size_t n = 0;
+		try
+		{
+			n = f.Read(buffer.data(), buffer.size());
+		}
+		catch (const std::exception&)
+		{
+			break;  // damage: the reading proper reports it
+		}
+		if (n == 0) break;
+		total += n;
+	}
+	return total;
+}
+
+/** True when an exception text says an allocation failed. */
+bool is_allocation_failure(const std::string& what) { return what.find("bad_alloc") != std::string::npos; }
 
 bool finite_pose(const mrpt::poses::CPose3D& p)
 {
@@ -194,6 +233,16 @@ class Reader
 	CActionCollection::Ptr pending_;  ///< the last action collection, waiting for its sensory frame
 	std::size_t pending_entry_ = 0;
 	std::size_t entry_ = 0;  ///< entries read
+	std::uint64_t budget_ = 0;  ///< memory budget of the reading in bytes (0: none)
+	bool budget_active_ = false;
+
+	std::string budget_exceeded() const
+	{
+		if (!budget_active_) return "out of memory while decoding the object";
+		return "the object declares more data than the reading's memory budget of " +
+			std::to_string(budget_ >> 20) +
+			" MiB allows (a corrupt length or count field: MRPT's decoder allocates what the file declares)";
+	}
 };
 
 void Reader::add_step(
@@ -240,9 +289,13 @@ bool Reader::read_entry(mrpt::io::CFileGZInputStream& f, mrpt::serialization::CA
 		}
 		damage = "unexpected end of data inside the object (" + mrpt_exception_summary(e.what()) + ")";
 	}
+	catch (const std::bad_alloc&)
+	{
+		damage = budget_exceeded();
+	}
 	catch (const std::exception& e)
 	{
-		damage = mrpt_exception_summary(e.what());
+		damage = is_allocation_failure(e.what()) ? budget_exceeded() : mrpt_exception_summary(e.what());
 	}
 	if (damage.empty() && !obj) damage = "null object";
 	if (!damage.empty())
@@ -325,14 +378,21 @@ Rawlog Reader::run()
 	const std::string& path = out_.path;
 	check_input_file(path, "rawlog");
 
+	budget_ = opt_.memory_budget == RawlogReaderOptions::kAutoMemoryBudget
+				  ? auto_memory_budget(rawlog_data_size(path))
+				  : opt_.memory_budget;
 	mrpt::io::CFileGZInputStream f;
 	std::string open_error;
 	if (!f.open(path, open_error)) fail("cannot open: " + open_error);
 	auto arch = mrpt::serialization::archiveFrom(f);
+	std::optional<ScopedMemoryBudget> budget;
+	if (budget_ > 0) budget.emplace(budget_);
+	budget_active_ = budget && budget->active();
 	bool clean_end = false;
 	while (!(opt_.max_steps && out_.steps.size() >= opt_.max_steps) && read_entry(f, arch, clean_end))
 	{
 	}
+	budget.reset();
 	if (pending_) out_.ignored_entries++;  // trailing action (normal in the kf-slam demos)
 	if (clean_end) check_gzip_trailer(f);
 	check_contents();
@@ -340,6 +400,15 @@ Rawlog Reader::run()
 	return std::move(out_);
 }
 }  // namespace
+
+std::uint64_t auto_memory_budget(std::uint64_t data_bytes)
+{
+	constexpr std::uint64_t kBase = std::uint64_t(256) << 20;
+	constexpr std::uint64_t kPerByte = 16;
+	const std::uint64_t max = ~std::uint64_t(0);
+	if (data_bytes > (max - kBase) / kPerByte) return max - 1;
+	return kBase + kPerByte * data_bytes;
+}
 
 std::string mrpt_exception_summary(const std::string& what)
 {

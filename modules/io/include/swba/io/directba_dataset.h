@@ -48,7 +48,8 @@ PinholeIntrinsics directba_dataset_intrinsics();
 
 /** Loads an image with mrpt::img::CImage (PNG, JPEG, … as MRPT's build decodes them) and converts
  * it to gray (RGB → luminance; the shipped PNGs have R = G = B, so gray = the stored value).
- * Throws std::runtime_error if the file is missing or cannot be decoded. */
+ * Throws std::runtime_error if the file is missing or cannot be decoded, or if decoding it would take
+ * more than image_memory_budget() of its size (see there). */
 IntensityImage load_intensity_image(const std::string& path);
 
 /** Reads `t tx ty tz qx qy qz qw` lines (camera-from-world), returns T_wc per line; blank lines and
@@ -61,6 +62,12 @@ std::vector<DirectBAPoint> read_directba_points(const std::string& path);
 
 /** Reads a whole data set directory: poses.txt, points.txt and images 0.png … (N−1).png for the N
  * poses. `intrinsics` defaults to the shipped data set's. */
+/** Memory an image file of `file_bytes` bytes may take to decode: 256 MiB + 64 × file_bytes. Real
+ * photographs compress a few times; a PNG declaring more pixels than this is refused before decoding
+ * (a few hundred kilobytes of zeros can declare gigabytes), and other formats decode under this
+ * budget (swba::ScopedMemoryBudget). */
+std::uint64_t image_memory_budget(std::uint64_t file_bytes);
+
 DirectBADataset read_directba_dataset(const std::string& dir,
 									  const PinholeIntrinsics& intrinsics = directba_dataset_intrinsics());
 

@@ -84,7 +84,22 @@ struct RawlogReaderOptions
 	std::size_t max_steps = 0;
 	/** At most this many warning texts are kept in `Rawlog::warnings` (all are counted). Default 20. */
 	std::size_t max_warning_texts = 20;
+	/** Memory the reading may take, in bytes, beyond what the process holds when it starts; an
+	 * object whose declared length or count would exceed it ends the reading as a corrupt entry
+	 * (swba::ScopedMemoryBudget: the process's address space is capped while the file is read, so
+	 * the cap is process-wide; not in AddressSanitizer builds). 0 = no cap. Default kAutoMemoryBudget:
+	 * auto_memory_budget() of the file. */
+	std::uint64_t memory_budget = kAutoMemoryBudget;
+
+	static constexpr std::uint64_t kAutoMemoryBudget = ~std::uint64_t(0);
 };
+
+/** The default memory budget of reading a rawlog whose serialised data (decompressed, for gzip) has
+ * `data_bytes` bytes: 256 MiB + 16 × data_bytes. No object can legitimately need more memory than
+ * a small multiple of the bytes that encode it, so this lets every real file through (its content
+ * is as large as it declares) and stops the length fields of a corrupt file from asking for
+ * gigabytes that are not in it. */
+std::uint64_t auto_memory_budget(std::uint64_t data_bytes);
 
 /** Turns MRPT (action collection, sensory frame) pairs into RawlogSteps numbered 0, 1, 2, … with
  * read_rawlog()'s rules: the first robot movement (2D or 3D) is the odometry (none → has_odometry =
@@ -143,9 +158,11 @@ struct Rawlog
  * a valid range-bearing reading; an odometry mean or covariance is not finite, or a covariance has
  * a negative variance; a sensory frame holds several bearing-range observations with different
  * sensor poses. Single invalid readings are dropped and counted (see RawlogStep::skipped_readings).
- * Untrusted files: MRPT 2.5's deserialisation allocates whatever a corrupt length or count field asks
- * for (gigabytes from a few hundred bytes; reproducers in fuzz/findings/mrpt/), before any check here
- * can run: read such files under a memory limit. */
+ * Corrupt length fields: MRPT 2.5's deserialisation allocates whatever a length or count field asks
+ * for (gigabytes from a few hundred bytes; reproducers in fuzz/findings/mrpt/) before any check here
+ * can run; options.memory_budget bounds that (such a file is then reported as corrupt at the entry
+ * whose object asked for it). For gzip files the data size is found by decompressing once before
+ * the reading. */
 Rawlog read_rawlog(const std::string& path, const RawlogReaderOptions& options = {});
 
 /** One line from an exception text: for MRPT's ("==== MRPT exception ====", "Message: …",
