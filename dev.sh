@@ -1,8 +1,12 @@
 #!/usr/bin/env bash
 # swba developer entry point: installs missing Debian packages, configures, builds, then
 #   ./dev.sh run [swba run options]   run the main job (swba run on the default rawlog)
-#   ./dev.sh test                     run the whole test suite through ctest (what CI runs)
-#   ./dev.sh test-asan                the suite under -fsanitize=address,undefined (build-asan/)
+#   ./dev.sh test                     the whole suite (what CI runs): test-release, test-asan, fuzz-smoke
+#   ./dev.sh test-release             the suite through ctest on the Release build (build/)
+#   ./dev.sh test-asan                the suite under -fsanitize=address,undefined with leak detection
+#                                     (build-asan/; suppressions: tests/lsan.supp)
+#   ./dev.sh fuzz-smoke               every libFuzzer harness for SWBA_FUZZ_SMOKE_SECONDS (default 10)
+#                                     (build-fuzz/, clang; doc/fuzzing.md)
 #   ./dev.sh build                    only install dependencies and build
 #   ./dev.sh swba <command> [...]     build, then run any swba subcommand
 set -euo pipefail
@@ -26,18 +30,48 @@ build() {  # build <dir> [--target T] <extra cmake args...>
 	cmake --build "$dir" -j "$jobs" "${target[@]}"
 }
 
+# Extra arguments of `test` go to ctest in both suites.
+test_release() {
+	build build
+	ctest --test-dir build --output-on-failure -j "$jobs" "$@"
+}
+test_asan() {
+	build build-asan -DSWBA_SANITIZE=ON -DSWBA_BUILD_BENCH=OFF
+	ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0" \
+		ctest --test-dir build-asan --output-on-failure -j "$jobs" "$@"
+}
+fuzz_smoke() {
+	FUZZ_BUILD_JOBS=$jobs scripts/fuzz-campaign.sh "${SWBA_FUZZ_SMOKE_SECONDS:-10}"
+}
+stage() {  # stage <name> <function> [args...]: runs it and prints its wall time
+	local name=$1 t0
+	shift
+	t0=$(date +%s)
+	echo "== dev.sh: $name" >&2
+	"$@"
+	echo "== dev.sh: $name passed in $(($(date +%s) - t0)) s" >&2
+}
+
 case "$mode" in
 run)
 	build build --target swba
 	exec ./build/apps/swba/swba run "$@"
 	;;
 test)
-	build build
-	exec ctest --test-dir build --output-on-failure -j "$jobs" "$@"
+	t_all=$(date +%s)
+	stage "release suite" test_release "$@"
+	stage "sanitizer suite" test_asan "$@"
+	stage "fuzz smoke" fuzz_smoke
+	echo "== dev.sh: all passed in $(($(date +%s) - t_all)) s" >&2
+	;;
+test-release)
+	test_release "$@"
 	;;
 test-asan)
-	build build-asan -DSWBA_SANITIZE=ON -DSWBA_BUILD_BENCH=OFF
-	ASAN_OPTIONS=detect_leaks=0 exec ctest --test-dir build-asan --output-on-failure -j "$jobs" "$@"
+	test_asan "$@"
+	;;
+fuzz-smoke)
+	fuzz_smoke
 	;;
 build)
 	build build
@@ -47,7 +81,7 @@ swba)
 	exec ./build/apps/swba/swba "$@"
 	;;
 *)
-	echo "usage: ./dev.sh run|test|test-asan|build|swba <command> [...]" >&2
+	echo "usage: ./dev.sh run|test|test-release|test-asan|fuzz-smoke|build|swba <command> [...]" >&2
 	exit 2
 	;;
 esac

@@ -13,8 +13,8 @@ if(SWBA_WERROR)
   target_compile_options(swba_build_flags INTERFACE -Werror)
 endif()
 if(SWBA_SANITIZE)
-  target_compile_options(swba_build_flags INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
-  target_link_options(swba_build_flags INTERFACE -fsanitize=address,undefined)
+  target_compile_options(swba_build_flags INTERFACE -fsanitize=${SWBA_SANITIZERS} -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  target_link_options(swba_build_flags INTERFACE -fsanitize=${SWBA_SANITIZERS})
 endif()
 # A fuzzing build (clang, SWBA_FUZZ and SWBA_SANITIZE, see fuzz/CMakeLists.txt) gives libFuzzer the
 # coverage of swba's own code: every target gets the coverage instrumentation (fuzzer-no-link), whose
@@ -48,7 +48,7 @@ function(swba_add_module name)
   target_link_libraries(swba_${name} PUBLIC ${ARG_DEPS}
     PRIVATE $<BUILD_INTERFACE:swba_build_flags> ${ARG_PRIVATE_DEPS})
   if(SWBA_SANITIZE)  # objects built with sanitizers need the runtime at the user's link step
-    target_link_options(swba_${name} INTERFACE $<INSTALL_INTERFACE:-fsanitize=address,undefined>)
+    target_link_options(swba_${name} INTERFACE $<INSTALL_INTERFACE:-fsanitize=${SWBA_SANITIZERS}>)
   endif()
   set_property(GLOBAL APPEND PROPERTY SWBA_MODULE_INCLUDE_DIRS "${name}=${CMAKE_CURRENT_SOURCE_DIR}/include")
   install(TARGETS swba_${name} EXPORT swbaTargets

@@ -13,7 +13,10 @@
 # fuzz/regressions/<reader>/, which are only read); failing inputs land in build-fuzz/findings/<reader>/.
 # Prints per harness: executions, exec/s, coverage, findings; exit status 1 if any harness had a finding.
 # Environment: FUZZ_EXTRA_ARGS (more libFuzzer flags), FUZZ_BUILD_JOBS (default 2), FUZZ_NO_BUILD=1
-# (run the binaries already in build-fuzz/ without configuring or building).
+# (run the binaries already in build-fuzz/ without configuring or building), FUZZ_SANITIZERS (default
+# address,undefined; "undefined" builds build-fuzz-undefined/, where read_rawlog's memory budget is
+# active — ASan's allocator aborts on the failed allocations the budget relies on — so MRPT's
+# corrupt-length inputs are rejected like in a release build instead of being out-of-memory findings).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -22,10 +25,14 @@ seconds=${1:-30}
 readers=("$@")
 [ ${#readers[@]} -eq 0 ] && readers=(tum ground_truth g2o bal ini rawlog directba)
 
+sanitizers=${FUZZ_SANITIZERS:-address,undefined}
 build=build-fuzz
+[ "$sanitizers" != address,undefined ] && build=build-fuzz-${sanitizers//,/-}
+asan=0
+[[ ",$sanitizers," == *,address,* ]] && asan=1
 if [ -z "${FUZZ_NO_BUILD:-}" ]; then
 	CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSWBA_FUZZ=ON -DSWBA_SANITIZE=ON \
-		-DSWBA_WERROR=ON -DSWBA_BUILD_TESTS=OFF -DSWBA_BUILD_BENCH=OFF >/dev/null
+		-DSWBA_SANITIZERS="$sanitizers" -DSWBA_WERROR=ON -DSWBA_BUILD_TESTS=OFF -DSWBA_BUILD_BENCH=OFF >/dev/null
 	targets=()
 	for r in "${readers[@]}"; do targets+=(--target "swba_fuzz_$r"); done
 	nice cmake --build "$build" -j "${FUZZ_BUILD_JOBS:-2}" "${targets[@]}"
@@ -50,12 +57,13 @@ for r in "${readers[@]}"; do
 	before=$(wc -l <<<"$before_list")
 	[ -z "$before_list" ] && before=0
 	keep_going=()
-	[ "$r" = rawlog ] && keep_going=(-ignore_crashes=1)
+	[ "$r" = rawlog ] && [ "$asan" = 1 ] && keep_going=(-ignore_crashes=1)
 	echo "== $r: ${seconds}s, log $log"
 	# shellcheck disable=SC2086
 	nice -n 10 "$build/fuzz/swba_fuzz_$r" "$work" "${extra_dirs[@]}" -fork=1 -ignore_ooms=1 -ignore_timeouts=1 "${keep_going[@]}" \
 		-max_total_time="$seconds" -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=10 \
-		-artifact_prefix="$findings/" -print_final_stats=1 ${FUZZ_EXTRA_ARGS:-} >"$log" 2>&1 || status=1
+		-artifact_prefix="$findings/" -print_final_stats=1 ${FUZZ_EXTRA_ARGS:-} >"$log" 2>&1 || rc=$?
+	rc=${rc:-0}
 	# Fork mode's progress lines: "#<execs>: cov: C ft: F corp: N exec/s E oom/timeout/crash: O/T/X time: Ss ..."
 	last=$(grep -E '^#[0-9]+: cov: ' "$log" | tail -n 1 || true)
 	execs=$(sed -E 's/^#([0-9]+):.*/\1/' <<<"$last")
@@ -64,8 +72,11 @@ for r in "${readers[@]}"; do
 	eps=$([ -n "$execs" ] && [ "${secs:-0}" -gt 0 ] && echo $((execs / secs)) || echo "?")  # the line's own exec/s is the last job's
 	otc=$(sed -E 's/.* oom\/timeout\/crash: ([0-9\/]+).*/\1/' <<<"$last")
 	new=$(($(find "$findings" -type f | wc -l) - before))
-	[ "$new" -gt 0 ] && status=1
-	# Triage: replay each new input once; print the sanitizer's summary and where it happened.
+	known=0
+	# Triage: replay each new input once; print the sanitizer's summary and where it happened. Under
+	# ASan, an out-of-memory or timeout of the rawlog harness inside MRPT's deserialisation is the known
+	# upstream problem (doc/fuzzing.md: release builds bound it with a memory budget, which ASan's
+	# allocator rules out): counted as known, not as a failure. Anything else fails the run.
 	for f in $(comm -13 <(echo "$before_list") <(find "$findings" -type f | sort)); do
 		out=$(timeout 60 "$build/fuzz/swba_fuzz_$r" -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=10 "$f" 2>&1 || true)
 		what=$(grep -m1 -E '^SUMMARY|ERROR: libFuzzer' <<<"$out" | cut -c1-120 || true)
@@ -73,10 +84,18 @@ for r in "${readers[@]}"; do
 			grep -m1 -E 'libmrpt|/modules/|/fuzz/fuzz_' || true)
 		module=$(grep -oE 'libmrpt[^+ )]*' <<<"$frame" | head -n 1 || true)
 		where="${module:+$module: }$(sed -E 's/^ +#[0-9]+ 0x[0-9a-f]+ in //' <<<"$frame" | cut -c1-110)"
-		echo "  finding $f: ${what:-no failure when replayed alone}${frame:+ | $where}"
+		if [ "$r" = rawlog ] && [ "$asan" = 1 ] && [ -n "$module" ] &&
+			grep -qiE 'out-of-memory|out of memory|malloc limit|rss limit|timeout|allocation-size-too-big' <<<"$what$out"; then
+			known=$((known + 1))
+			echo "  known (MRPT, no budget under ASan) $f: $what | $where"
+		else
+			echo "  finding $f: ${what:-no failure when replayed alone}${frame:+ | $where}"
+		fi
 	done
-	summary+=("$(printf '%-13s executions %-10s in %5ss  exec/s %-6s cov %-6s oom/timeout/crash %-7s new files in %s: %s' \
-		"$r" "${execs:-?}" "${secs:-?}" "$eps" "${cov:-?}" "${otc:-?}" "$findings" "$new")")
+	if [ "$new" -gt "$known" ] || { [ "$rc" != 0 ] && [ "$known" = 0 ]; }; then status=1; fi
+	unset rc
+	summary+=("$(printf '%-13s executions %-10s in %5ss  exec/s %-6s cov %-6s oom/timeout/crash %-7s new files in %s: %s (known: %s)' \
+		"$r" "${execs:-?}" "${secs:-?}" "$eps" "${cov:-?}" "${otc:-?}" "$findings" "$new" "$known")")
 done
 echo
 printf '%s\n' "${summary[@]}"
