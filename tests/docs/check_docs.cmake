@@ -8,6 +8,8 @@
 #      "$ swba ..." line must be the command tests/golden/tests.cmake declares for golden.NAME (data paths
 #      written as in the source tree), and every number in the block (timings masked as the golden test
 #      masks them) must occur in tests/golden/ref/NAME.txt. A figure that drifts from the reference fails.
+#   4. Each command page (WORKED_EXAMPLES, paths relative to SRC) that is checked has at least one golden block:
+#      its worked example.
 # Every problem is listed; the script fails if there is any.
 cmake_minimum_required(VERSION 3.20)
 if(NOT DEFINED GOLDEN_TESTS)
@@ -18,6 +20,9 @@ if(NOT DEFINED GOLDEN_REF)
 endif()
 if(NOT DEFINED DOCS)
   file(GLOB DOCS "${SRC}/README.md" "${SRC}/doc/*.md" "${SRC}/doc/benchmarks/*.md")
+endif()
+if(NOT DEFINED WORKED_EXAMPLES)
+  set(WORKED_EXAMPLES doc/run.md doc/outliers.md doc/evaluation.md doc/monoba.md doc/bal.md doc/pgo.md doc/directba.md)
 endif()
 include(${SRC}/tests/golden/mask.cmake)
 
@@ -168,6 +173,7 @@ foreach(doc IN LISTS DOCS)
   set(pending "")
   set(block "")
   set(lineno 0)
+  set(doc_blocks 0)
   foreach(line IN LISTS lines)
     math(EXPR lineno "${lineno} + 1")
     # 2. References that do not belong in the documentation (fenced blocks included).
@@ -184,6 +190,7 @@ foreach(doc IN LISTS DOCS)
         if(golden)
           check_golden_block("${rel}:${golden_line}" "${golden}" "${block}" problems)
           math(EXPR num_blocks "${num_blocks} + 1")
+          math(EXPR doc_blocks "${doc_blocks} + 1")
         endif()
         set(golden "")
       else()
@@ -245,6 +252,9 @@ foreach(doc IN LISTS DOCS)
   endforeach()
   if(fence)
     problem("${rel}: unterminated fenced block")
+  endif()
+  if(rel IN_LIST WORKED_EXAMPLES AND doc_blocks EQUAL 0)
+    problem("${rel}: a command page without a worked example pinned by a golden block")
   endif()
 endforeach()
 
