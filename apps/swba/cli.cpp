@@ -2,6 +2,7 @@
 // error for an option no argument declares (TCLAP would hand "--bogus" to an optional positional).
 #include "cli.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -11,10 +12,59 @@ namespace swba::app
 {
 namespace
 {
+/** TCLAP's own arguments (listed last by --help). */
+bool is_builtin(const TCLAP::Arg* a)
+{
+	const std::string& n = a->getName();
+	return n == "ignore_rest" || n == "version" || n == "help";
+}
+
+/** The arguments in the order --help lists them: the positional ones, then the options in the order the
+ * command adds them (input, main choices, tuning, output, verbosity), then TCLAP's own. TCLAP keeps
+ * positional arguments in order at the end of its list and options in reverse order of addition. */
+std::vector<TCLAP::Arg*> help_order(TCLAP::CmdLineInterface& c)
+{
+	std::vector<TCLAP::Arg*> positional, options, builtin;
+	for (TCLAP::Arg* a : c.getArgList())
+	{
+		if (is_builtin(a))
+			builtin.push_back(a);
+		else if (a->longID().compare(0, 1, "<") == 0)
+			positional.push_back(a);
+		else
+			options.insert(options.begin(), a);
+	}
+	std::vector<TCLAP::Arg*> all = positional;
+	all.insert(all.end(), options.begin(), options.end());
+	all.insert(all.end(), builtin.begin(), builtin.end());
+	return all;
+}
+
 class OneLineOutput : public TCLAP::StdOutput
 {
    public:
 	bool failed = false;
+	/** TCLAP's layout, in help_order. */
+	void usage(TCLAP::CmdLineInterface& c) override
+	{
+		const std::vector<TCLAP::Arg*> args = help_order(c);
+		std::string s = c.getProgramName() + " ";
+		for (const TCLAP::Arg* a : args)
+			s += " " + (a->longID().compare(0, 1, "<") == 0 && !a->isRequired() ? "[" + a->shortID() + "]" : a->shortID());
+		const int offset = std::min(static_cast<int>(c.getProgramName().size()) + 2, 75 / 2);
+		m_my_output << "\nUSAGE: \n\n";
+		spacePrint(m_my_output, s, 75, 3, offset);
+		m_my_output << "\n\nWhere: \n\n";
+		for (const TCLAP::Arg* a : args)
+		{
+			spacePrint(m_my_output, a->longID(), 75, 3, 3);
+			spacePrint(m_my_output, a->getDescription(), 75, 5, 0);
+			m_my_output << "\n";
+		}
+		m_my_output << "\n";
+		spacePrint(m_my_output, c.getMessage(), 75, 3, 0);
+		m_my_output << "\n";
+	}
 	void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override
 	{
 		failed = true;

@@ -26,7 +26,7 @@ struct MetricCommandLine
 		"r", "pose-relation",
 		"pose relation measured: trans = translation part (m), full = full transformation ||E - I||_F "
 		"(unit-less), rot = rotation part ||R(E) - I||_F (unit-less), angle_deg / angle_rad = rotation angle "
-		"of E. (Default: trans)",
+		"of E (Default: trans)",
 		false, "trans", &relation_values};
 	TCLAP::SwitchArg align_arg{"a", "align", "align the estimate to the reference with Umeyama's method: SE(3), "
 									 "or Sim(3) together with -s"};
@@ -35,46 +35,43 @@ struct MetricCommandLine
 	TCLAP::SwitchArg origin_arg{"", "align-origin",
 								"align the first estimated pose to the first reference pose (after -a/-s if given)"};
 	TCLAP::ValueArg<double> max_diff_arg{"", "t-max-diff",
-										 "largest time difference (s) for associating poses by stamp. (Default: 0.01)",
+										 "largest time difference (s) for associating poses by stamp (Default: 0.01)",
 										 false, 0.01, "S"};
-	TCLAP::ValueArg<double> offset_arg{"", "t-offset", "time offset (s) added to the estimate's stamps. (Default: 0)",
+	TCLAP::ValueArg<double> offset_arg{"", "t-offset", "time offset (s) added to the estimate's stamps (Default: 0)",
 									   false, 0.0, "S"};
 	std::vector<std::string> formats = {"tum", "mrpt-gt"};
 	TCLAP::ValuesConstraint<std::string> format_values{formats};
 	TCLAP::ValueArg<std::string> ref_format_arg{
 		"", "ref-format",
 		"format of REF: tum, or mrpt-gt = MRPT ground-truth robot path (x y z yaw pitch roll per row, row i at "
-		"t = i). (Default: tum)",
+		"t = i) (Default: tum)",
 		false, "tum", &format_values};
 	TCLAP::ValueArg<std::string> save_arg{
 		"", "save-results",
 		"write <m>_stats.json, <m>_stats.csv, <m>_errors.csv (per pose), <m>_result.json and <m>_est_aligned.tum "
-		"into DIR (m = ape or rpe; DIR is created)",
+		"into DIR (m = ape or rpe; DIR is created) (Default: not written)",
 		false, "", "DIR"};
 	TCLAP::ValueArg<std::string> plot_arg{
 		"", "plot",
 		"write plots into DIR: <m>_trajectories (top view) and <m>_errors (error over time), as .png and .svg "
-		"when gnuplot is on PATH (else a one-line note), plus their .dat/.gp sources",
+		"when gnuplot is on PATH (else a one-line note), plus their .dat/.gp sources (Default: not written)",
 		false, "", "DIR"};
-	TCLAP::ValueArg<int> delta_arg{"", "delta", "RPE: frames between the two poses of a pair. (Default: 1)", false, 1,
+	TCLAP::ValueArg<int> delta_arg{"", "delta", "RPE: frames between the two poses of a pair (Default: 1)", false, 1,
 								   "N"};
 	TCLAP::SwitchArg all_pairs_arg{"", "all-pairs", "RPE: use every pair (i, i+delta), not only consecutive ones"};
 
 	explicit MetricCommandLine(bool is_relative) : relative(is_relative), cmd(description(is_relative), ' ', "0.1.0")
 	{
-		// Positional arguments in their order; TCLAP lists the others in the reverse order of addition.
-		cmd.add(ref_arg);
-		cmd.add(est_arg);
-		cmd.add(plot_arg);
-		cmd.add(save_arg);
-		cmd.add(ref_format_arg);
+		// --help lists them in this order (cli.cpp): input, main choices, tuning, output.
+		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&ref_arg, &est_arg, &ref_format_arg, &relation_arg,
+																&align_arg, &scale_arg, &origin_arg})
+			cmd.add(*a);
 		if (relative)
 		{
-			cmd.add(all_pairs_arg);
 			cmd.add(delta_arg);
+			cmd.add(all_pairs_arg);
 		}
-		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&offset_arg, &max_diff_arg, &origin_arg, &scale_arg,
-																&align_arg, &relation_arg})
+		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&max_diff_arg, &offset_arg, &save_arg, &plot_arg})
 			cmd.add(*a);
 	}
 

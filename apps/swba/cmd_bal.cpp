@@ -17,26 +17,26 @@ struct BalCommandLine
 		' ', "0.1.0"};
 	TCLAP::UnlabeledValueArg<std::string> problem{
 		"problem", "BAL problem file (plain text, or bzip2 if supported)", true, "", "PROBLEM", cmd};
-	TCLAP::ValueArg<std::string> ply_initial{
-		"", "ply-initial", "write the initial cameras (green) and points (white) as PLY", false, "", "FILE", cmd};
-	TCLAP::ValueArg<std::string> ply_final{"", "ply-final", "write the solution as PLY", false, "", "FILE", cmd};
-	TCLAP::ValueArg<std::string> write_problem{
-		"", "write-problem", "write the solution in the BAL format", false, "", "OUT", cmd};
-	TCLAP::ValueArg<int> threads{"", "threads", "threads for evaluation and Schur assembly (Default: 2)", false, 2, "N", cmd};
-	TCLAP::ValueArg<int> max_iterations{"", "max-iterations", "LM iteration limit (Default: 50)", false, 50, "K", cmd};
 	TCLAP::ValueArg<std::string> linear{"", "linear",
-										"reduced camera system: dense-schur, sparse-schur (CHOLMOD) or auto (Default: "
-										"dense up to 1500 unknowns)",
+										"reduced camera system: dense-schur, sparse-schur (CHOLMOD) or auto = dense up to 1500 unknowns "
+										"(Default: auto)",
 										false, "auto", "dense-schur|sparse-schur|auto", cmd};
 	TCLAP::ValueArg<std::string> loss{
 		"", "loss", "robust loss: none, huber or cauchy (Default: none)", false, "none", "none|huber|cauchy", cmd};
 	TCLAP::ValueArg<double> loss_scale{"", "loss-scale", "loss scale in pixels (Default: 1)", false, 1.0, "S", cmd};
+	TCLAP::ValueArg<int> max_iterations{"", "max-iterations", "LM iteration limit (Default: 50)", false, 50, "K", cmd};
 	TCLAP::ValueArg<double> ftol{
 		"", "function-tolerance", "stop when |Δcost|/cost < this (Default: 1e-6)", false, 1e-6, "TOL", cmd};
 	TCLAP::ValueArg<double> gtol{
 		"", "gradient-tolerance", "stop when max|gradient| ≤ this (Default: 1e-10)", false, 1e-10, "TOL", cmd};
 	TCLAP::ValueArg<double> ptol{
 		"", "parameter-tolerance", "stop when |step| ≤ this·(|x| + this) (Default: 1e-8)", false, 1e-8, "TOL", cmd};
+	TCLAP::ValueArg<int> threads{"", "threads", "threads for evaluation and Schur assembly (Default: 2)", false, 2, "N", cmd};
+	TCLAP::ValueArg<std::string> ply_initial{
+		"", "ply-initial", "write the initial cameras (green) and points (white) as PLY (Default: not written)", false, "", "FILE", cmd};
+	TCLAP::ValueArg<std::string> ply_final{"", "ply-final", "write the solution as PLY (Default: not written)", false, "", "FILE", cmd};
+	TCLAP::ValueArg<std::string> write_problem{
+		"", "write-problem", "write the solution in the BAL format (Default: not written)", false, "", "OUT", cmd};
 	TCLAP::SwitchArg quiet{"q", "quiet", "do not print the per-iteration table", cmd};
 };
 
@@ -70,7 +70,7 @@ int run_bal(int argc, char** argv)
 {
 	BalCommandLine args;
 	if (auto rc = swba::app::parse_command_line(args.cmd, argc, argv)) return *rc;
-	const auto result = swba::apps::run_bal_app(options_from(args), std::cout);
+	const auto result = swba::apps::run_bal_app(options_from(args), std::cout, std::cerr);
 	return result.summary.is_solution_usable() ? 0 : 1;
 }
 SWBA_REGISTER_COMMAND("bal", "bundle adjustment of a BAL problem (Snavely cameras), PLY output", run_bal);

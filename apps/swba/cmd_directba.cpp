@@ -19,7 +19,10 @@ struct DirectbaCommandLine
 		"DIR holds poses.txt, points.txt and 0.png..N-1.png (see doc/directba.md).",
 		' ', "0.1.0"};
 	TCLAP::UnlabeledValueArg<std::string> dir{"dir", "data set directory (not with --synthetic)", false, "", "DIR", cmd};
-	TCLAP::ValueArg<int> iterations = swba::app::max_iterations_arg(cmd, 50, "iterations");
+	TCLAP::SwitchArg synthetic{"", "synthetic",
+							   "run the synthetic check: render a textured room, perturb, recover, compare with "
+							   "ground truth (exit 1 unless poses <= 1 mm / 0.05 deg and points <= 1 cm)",
+							   cmd};
 	TCLAP::ValueArg<double> sigma{
 		"", "sigma", "photometric noise sigma in gray levels (Default: 10)", false, 10.0, "S", cmd};
 	TCLAP::ValueArg<double> huber_delta{"", "huber-delta",
@@ -27,21 +30,18 @@ struct DirectbaCommandLine
 										"(Default: sqrt(chi2_16(0.95)) = sqrt(26.296) = 5.128)",
 										false, std::sqrt(swba::kChi2Patch95), "D", cmd};
 	TCLAP::ValueArg<int> fixed_cameras{
-		"", "fixed-cameras", "hold the first N cameras constant (gauge; default 1, --synthetic: 2)", false, -1, "N", cmd};
+		"", "fixed-cameras", "hold the first N cameras constant (gauge) (Default: 1; with --synthetic: 2)", false, -1, "N", cmd};
 	TCLAP::ValueArg<int> border{
 		"", "border", "margin in pixels between a patch and the image edge (Default: 1)", false, 1, "B", cmd};
+	TCLAP::ValueArg<int> iterations = swba::app::max_iterations_arg(cmd, 50, "iterations");
 	TCLAP::ValueArg<int> threads = swba::app::threads_arg(cmd);
 	TCLAP::ValueArg<std::string> ply_initial{
-		"", "ply-initial", "write the initial cameras and points as PLY", false, "", "F.ply", cmd};
+		"", "ply-initial", "write the initial cameras and points as PLY (Default: not written)", false, "", "F.ply", cmd};
 	TCLAP::ValueArg<std::string> ply_final{
-		"", "ply-final", "write the optimised cameras and points as PLY", false, "", "F.ply", cmd};
+		"", "ply-final", "write the optimised cameras and points as PLY (Default: not written)", false, "", "F.ply", cmd};
 	TCLAP::ValueArg<std::string> out_dir{
-		"", "out", "write poses_initial.tum, poses_final.tum (world-from-camera) and points_final.ply here", false, "",
+		"", "out", "write poses_initial.tum, poses_final.tum (world-from-camera) and points_final.ply here (Default: not written)", false, "",
 		"OUTDIR", cmd};
-	TCLAP::SwitchArg synthetic{"", "synthetic",
-							   "run the synthetic check: render a textured room, perturb, recover, compare with "
-							   "ground truth (exit 1 unless poses <= 1 mm / 0.05 deg and points <= 1 cm)",
-							   cmd};
 	TCLAP::SwitchArg quiet{"q", "quiet", "do not print the per-iteration table", cmd};
 };
 
@@ -76,7 +76,7 @@ int run_directba(int argc, char** argv)
 	DirectbaCommandLine args;
 	if (auto rc = swba::app::parse_command_line(args.cmd, argc, argv)) return *rc;
 	const auto options = options_from(args);
-	const auto result = swba::apps::run_directba_app(options, std::cout);
+	const auto result = swba::apps::run_directba_app(options, std::cout, std::cerr);
 	return !options.synthetic || result.synthetic_pass ? 0 : 1;
 }
 SWBA_REGISTER_COMMAND("directba", "direct (photometric) bundle adjustment, 4x4 patches", run_directba);

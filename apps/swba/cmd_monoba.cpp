@@ -48,10 +48,10 @@ struct MonobaCommandLine
 	TCLAP::ValueArg<int> seeds{"", "seeds", "sweep: average over seeds K..K+S-1 (Default: 1)", false, 1, "S", cmd};
 	TCLAP::ValueArg<int> repetitions{
 		"", "repetitions", "solves per run for the median time (Default: 1)", false, 1, "R", cmd};
-	TCLAP::ValueArg<std::string> out{
-		"", "out", "also write the report / sweep table to this file", false, "", "FILE", cmd};
 	TCLAP::ValueArg<int> max_iterations = swba::app::max_iterations_arg(cmd, 50);
 	TCLAP::ValueArg<int> threads = swba::app::threads_arg(cmd);
+	TCLAP::ValueArg<std::string> out{
+		"", "out", "also write the report / sweep table to this file (Default: not written)", false, "", "FILE", cmd};
 	TCLAP::SwitchArg progress{"", "progress", "print the per-iteration LM table", cmd};
 };
 
@@ -121,7 +121,7 @@ int run_monoba_cmd(int argc, char** argv)
 {
 	MonobaCommandLine args;
 	if (auto rc = swba::app::parse_command_line(args.cmd, argc, argv)) return *rc;
-	swba::apps::run_monoba_app(options_from(args), std::cout);
+	swba::apps::run_monoba_app(options_from(args), std::cout, std::cerr);
 	return 0;
 }
 SWBA_REGISTER_COMMAND("monoba", "monocular inverse-depth BA demo and gauge study (synthetic)", run_monoba_cmd);

@@ -16,21 +16,17 @@ struct PgoCommandLine
 		"Levenberg-Marquardt and writes the optimised graph. Cost = 1/2 sum r^T Lambda r (see doc/pgo.md).",
 		' ', "0.1.0"};
 	TCLAP::UnlabeledValueArg<std::string> input{"input", "input g2o file", true, "", "IN.g2o", cmd};
-	TCLAP::ValueArg<std::string> output{
-		"o", "output", "write the optimised graph here (Default: not written)", false, "", "OUT.g2o", cmd};
-	TCLAP::ValueArg<int> max_iterations = swba::app::max_iterations_arg(cmd, 100);
-	TCLAP::ValueArg<std::string> robust{
-		"", "robust", "robust loss: none, huber or cauchy (Default: none)", false, "none", "none|huber|cauchy", cmd};
-	TCLAP::ValueArg<double> robust_scale{
-		"", "robust-scale", "loss scale in whitened residual units (Default: 1)", false, 1.0, "S", cmd};
-	TCLAP::ValueArg<int> threads = swba::app::threads_arg(cmd);
-	TCLAP::ValueArg<std::string> linear{"",
-										"linear",
-										"linear solver: auto, dense-normal, sparse-normal (Default: auto)",
-										false,
-										"auto",
-										"auto|dense-normal|sparse-normal",
-										cmd};
+	TCLAP::ValueArg<std::string> information{
+		"", "information",
+		"edge information matrices that are not positive definite: strict = error naming file:line; repair = "
+		"replace each by the nearest positive-definite matrix (symmetrise, clip eigenvalues below 1e-6 x the "
+		"largest), counted on stderr and in the report (Default: strict)",
+		false, "strict", swba::enum_choices<swba::io::InformationPolicy>("|"), cmd};
+	TCLAP::ValueArg<std::string> init{
+		"", "init",
+		"initial values: chordal = chordal-relaxation rotations, then positions by linear least squares; "
+		"odometry = poses composed along the odometry spanning tree; file = the values as read (Default: chordal)",
+		false, "chordal", "chordal|odometry|file", cmd};
 	TCLAP::ValueArg<std::string> gauge{
 		"", "gauge",
 		"fixed: FIX lines, else the lowest-id vertex held constant (\"fix\" is accepted too); prior: FIX lines, "
@@ -38,27 +34,31 @@ struct PgoCommandLine
 		false, "fixed", "fixed|prior|free", cmd};
 	TCLAP::ValueArg<double> prior_sigma{
 		"", "prior-sigma", "gauge prior sigma in m and rad (Default: 1e-3)", false, 1e-3, "SIGMA", cmd};
-	TCLAP::ValueArg<double> function_tolerance{
-		"", "function-tolerance", "stop when |dcost|/cost falls below (Default: 1e-6)", false, 1e-6, "TOL", cmd};
-	TCLAP::ValueArg<double> initial_radius{
-		"", "initial-trust-region", "initial LM trust-region radius mu0, damping 1/mu0 (Default: 1e12; Ceres uses 1e4)",
-		false, swba::problems::kPoseGraphInitialTrustRegion, "MU0", cmd};
+	TCLAP::ValueArg<std::string> robust{
+		"", "robust", "robust loss: none, huber or cauchy (Default: none)", false, "none", "none|huber|cauchy", cmd};
+	TCLAP::ValueArg<double> robust_scale{
+		"", "robust-scale", "loss scale in whitened residual units (Default: 1)", false, 1.0, "S", cmd};
 	TCLAP::ValueArg<std::string> rotation_error{
 		"", "rotation-error",
 		"3D rotation error: g2o = 2 vec(q_ab^-1 q_a^-1 q_b), ceres = 2 vec(q_ab (q_a^-1 q_b)^-1) as Ceres's "
 		"pose_graph_3d example (Default: g2o)",
 		false, "g2o", "g2o|ceres", cmd};
-	TCLAP::ValueArg<std::string> init{
-		"", "init",
-		"initial values: chordal = chordal-relaxation rotations, then positions by linear least squares; "
-		"odometry = poses composed along the odometry spanning tree; file = the values as read (Default: chordal)",
-		false, "chordal", "chordal|odometry|file", cmd};
-	TCLAP::ValueArg<std::string> information{
-		"", "information",
-		"edge information matrices that are not positive definite: strict = error naming file:line; repair = "
-		"replace each by the nearest positive-definite matrix (symmetrise, clip eigenvalues below 1e-6 x the "
-		"largest), counted on stderr and in the report (Default: strict)",
-		false, "strict", swba::enum_choices<swba::io::InformationPolicy>("|"), cmd};
+	TCLAP::ValueArg<std::string> linear{"",
+										"linear",
+										"linear solver: auto, dense-normal, sparse-normal (Default: auto)",
+										false,
+										"auto",
+										"auto|dense-normal|sparse-normal",
+										cmd};
+	TCLAP::ValueArg<int> max_iterations = swba::app::max_iterations_arg(cmd, 100);
+	TCLAP::ValueArg<double> function_tolerance{
+		"", "function-tolerance", "stop when |dcost|/cost falls below (Default: 1e-6)", false, 1e-6, "TOL", cmd};
+	TCLAP::ValueArg<double> initial_radius{
+		"", "initial-trust-region", "initial LM trust-region radius mu0, damping 1/mu0 (Default: 1e12; Ceres uses 1e4)",
+		false, swba::problems::kPoseGraphInitialTrustRegion, "MU0", cmd};
+	TCLAP::ValueArg<int> threads = swba::app::threads_arg(cmd);
+	TCLAP::ValueArg<std::string> output{
+		"o", "output", "write the optimised graph here (Default: not written)", false, "", "OUT.g2o", cmd};
 	TCLAP::SwitchArg quiet{"q", "quiet", "do not print the per-iteration table", cmd};
 };
 

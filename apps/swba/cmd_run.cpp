@@ -38,70 +38,72 @@ struct RunCommandLine
 		"directory. Options: defaults < --config INI < command line.",
 		' ', "0.1.0"};
 	TCLAP::UnlabeledValueArg<std::string> rawlog{
-		"RAWLOG", "MRPT rawlog with odometry and bearing-range observations. (Default: kf-slam_6D_demo.rawlog of mrpt-common)",
+		"RAWLOG", "MRPT rawlog with odometry and bearing-range observations (Default: kf-slam_6D_demo.rawlog of mrpt-common)",
 		false, "", "RAWLOG"};
 	TCLAP::ValueArg<std::string> gt{"", "gt",
-									"MRPT ground-truth robot path (x y z yaw pitch roll per row, row i = pose at SF_i). "
+									"MRPT ground-truth robot path (x y z yaw pitch roll per row, row i = pose at SF_i) "
 									"(Default: <rawlog name>_ground_truth_robot_path.txt next to the rawlog, if present)",
 									false, "", "FILE"};
-	TCLAP::ValueArg<std::string> windows{"", "windows", "window sizes W, comma-separated, each >= 2. (Default: 5,10,20,30)",
+	TCLAP::ValueArg<std::string> windows{"", "windows", "window sizes W, comma-separated, each >= 2 (Default: 5,10,20,30)",
 										 false, "", "LIST"};
 	TCLAP::SwitchArg no_ekf{"", "no-ekf", "do not run MRPT's EKF"};
 	TCLAP::SwitchArg no_batch{"", "no-batch", "do not run the batch estimator"};
 	TCLAP::SwitchArg causal{"", "causal",
 							"also run the full-history causal optimum (online W=inf: re-solve the whole history after "
 							"every step; O(steps^2))"};
-	TCLAP::ValueArg<std::string> out{"", "out", "output directory, created. (Default: swba_out)", false, "", "DIR"};
+	TCLAP::ValueArg<std::string> out{"", "out", "output directory, created (Default: swba_out)", false, "", "DIR"};
 	TCLAP::ValueArg<std::string> config{"", "config",
 										"INI file with options (sections [run] [window] [solver] [ekf] [sensor] [odometry]; "
 										"see " + swba::app::share_dir() + "/config/swba_run.ini); unknown keys are errors",
 										false, "", "INI"};
 	TCLAP::ValueArg<std::string> ekf_method{"", "ekf-method",
 											"MRPT EKF methods, comma-separated: kfEKFNaive, kfEKFAlaDavison, kfIKFFull, "
-											"kfIKF. (Default: kfEKFAlaDavison,kfEKFNaive)",
+											"kfIKF (Default: kfEKFAlaDavison,kfEKFNaive)",
 											false, "", "NAME,..."};
 	TCLAP::ValueArg<std::string> policy{
-		"", "policy", "landmark policy of the window: slam, constant-time or both. (Default: slam)", false, "", "P"};
-	TCLAP::ValueArg<std::string> fej{"", "fej", "first-estimate Jacobians: on, off or both. (Default: on)", false, "",
+		"", "policy", "landmark policy of the window: slam, constant-time or both (Default: slam)", false, "", "P"};
+	TCLAP::ValueArg<std::string> fej{"", "fej", "first-estimate Jacobians: on, off or both (Default: on)", false, "",
 									 "on|off|both"};
 	TCLAP::ValueArg<std::string> landmarks{
-		"", "landmarks", "landmark parameterisation: inverse-depth or xyz. (Default: inverse-depth)", false, "", "P"};
-	TCLAP::ValueArg<std::string> gauge{"", "gauge", "gauge: fixed (first pose constant), free or prior. (Default: fixed)",
+		"", "landmarks", "landmark parameterisation: inverse-depth or xyz (Default: inverse-depth)", false, "", "P"};
+	TCLAP::ValueArg<std::string> gauge{"", "gauge", "gauge: fixed (first pose constant), free or prior (Default: fixed)",
 									   false, "", "G"};
 	TCLAP::ValueArg<double> std_range{"", "sensor-std-range",
-									  "range noise (m) for every estimator. (Default: the observation's own)", false, 0, "M"};
+									  "range noise (m) for every estimator (Default: the observation's own)", false, 0, "M"};
 	TCLAP::ValueArg<double> std_yaw{"", "sensor-std-yaw-deg",
-									"yaw noise (deg) for every estimator. (Default: the observation's own)", false, 0, "D"};
+									"yaw noise (deg) for every estimator (Default: the observation's own)", false, 0, "D"};
 	TCLAP::ValueArg<double> std_pitch{"", "sensor-std-pitch-deg",
-									  "pitch noise (deg) for every estimator. (Default: the observation's own)", false, 0,
+									  "pitch noise (deg) for every estimator (Default: the observation's own)", false, 0,
 									  "D"};
 	TCLAP::ValueArg<std::string> gate{"", "gate",
-									  "chi-square gate of the bearing-range readings (doc/outliers.md): on or off. "
+									  "chi-square gate of the bearing-range readings (doc/outliers.md): on or off "
 									  "(Default: on)",
 									  false, "", "on|off"};
 	TCLAP::ValueArg<double> gate_probability{
-		"", "gate-probability", "share of correct readings the gate passes, in (0, 1). (Default: 0.999)", false, 0, "P"};
+		"", "gate-probability", "share of correct readings the gate passes, in (0, 1) (Default: 0.999)", false, 0, "P"};
 	TCLAP::ValueArg<std::string> robust_loss{
-		"", "robust-loss", "robust loss of the range-bearing factors, window and batch: none, huber or cauchy. (Default: none)",
+		"", "robust-loss", "robust loss of the range-bearing factors, window and batch: none, huber or cauchy (Default: none)",
 		false, "", "L"};
 	TCLAP::ValueArg<double> robust_probability{
 		"", "robust-probability",
-		"robust-loss scale = sqrt of the chi-square (3 DoF) quantile at this probability, in (0, 1). (Default: 0.95)",
+		"robust-loss scale = sqrt of the chi-square (3 DoF) quantile at this probability, in (0, 1) (Default: 0.95)",
 		false, 0, "P"};
-	TCLAP::ValueArg<int> max_steps{"", "max-steps", "process at most N steps (0 = all). (Default: 0)", false, 0, "N"};
-	TCLAP::ValueArg<int> threads{"", "threads", "solver threads. (Default: 1)", false, 1, "N"};
+	TCLAP::ValueArg<int> max_steps{"", "max-steps", "process at most N steps (0 = all) (Default: 0)", false, 0, "N"};
+	TCLAP::ValueArg<int> threads{"", "threads", "solver threads (Default: 1)", false, 1, "N"};
 	TCLAP::SwitchArg no_plots{"", "no-plots", "do not write gnuplot plots"};
 	TCLAP::SwitchArg no_progress{"", "no-progress", "no progress lines on stderr"};
 	TCLAP::SwitchArg verbose{"", "verbose", "each solve's summary on stderr: a line per window step, the batch's full report"};
 
 	RunCommandLine()
 	{
-		cmd.add(rawlog);
-		// TCLAP lists options in reverse order of addition.
+		// --help lists them in this order (cli.cpp): input, main choices, tuning, output, verbosity.
 		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{
-				 &verbose, &no_progress, &no_plots, &threads, &max_steps, &robust_probability, &robust_loss, &gate_probability, &gate,
-				 &std_pitch, &std_yaw, &std_range, &gauge, &landmarks,
-				 &fej, &policy, &ekf_method, &config, &out, &causal, &no_batch, &no_ekf, &windows, &gt})
+				 &rawlog, &gt, &config,                                                      //
+				 &windows, &no_ekf, &no_batch, &causal, &ekf_method, &policy, &fej, &landmarks, &gauge,  //
+				 &std_range, &std_yaw, &std_pitch, &gate, &gate_probability, &robust_loss, &robust_probability,
+				 &max_steps, &threads,  //
+				 &out, &no_plots,       //
+				 &no_progress, &verbose})
 			cmd.add(*a);
 	}
 

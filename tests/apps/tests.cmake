@@ -44,7 +44,7 @@ swba_run_case(config_applied 0 REGEX "\\(20 steps\\).*\nwindow W=7 +7 +online" N
 swba_run_case(command_line_overrides_config 0 REGEX "\\(20 steps\\).*\nwindow W=5 +5 +online" NOT_REGEX "W=7<OR>\nbatch"
   ARGS ${_demo} --config ${_data}/override.ini --windows 5 --no-plots --out ${_out}/command_line_overrides_config)
 # --help lists every option.
-swba_run_case(help 0 REGEX "--windows.*--no-ekf.*--no-batch.*--out.*--config.*--ekf-method.*--policy.*--fej.*--landmarks.*--gauge.*--sensor-std-range.*--causal.*--max-steps.*--threads"
+swba_run_case(help 0 REGEX "--windows.*--no-ekf.*--no-batch.*--causal.*--ekf-method.*--policy.*--fej.*--landmarks.*--gauge.*--sensor-std-range.*--max-steps.*--threads.*--out"
   ARGS --help)
 
 # Bad input: one line naming the file/option, exit != 0.
@@ -104,7 +104,7 @@ function(swba_cli_case name rc)
     COMMAND ${CMAKE_COMMAND} "-DCMD=${_cmd}" -DEXPECT_RC=${rc} "-DREGEX=${C_REGEX}" -P ${_check})
 endfunction()
 swba_cli_case(version_option 0 REGEX "^swba [0-9]+\\.[0-9]+\\.[0-9]+ \\(MRPT [0-9.]+, Eigen [0-9.]+\\)" ARGS --version)
-swba_cli_case(help_command 0 REGEX "swba run +\\[--gt <FILE>\\]" ARGS help run)
+swba_cli_case(help_command 0 REGEX "swba run +\\[<RAWLOG>\\] \\[--gt <FILE>\\]" ARGS help run)
 swba_cli_case(unknown_option 2 REGEX "^swba run: error: unknown option '--bogus' \\(see --help\\)" ARGS run --bogus)
 swba_cli_case(unknown_short_option 2 REGEX "^swba ape: error: unknown option '-x'" ARGS ape -x a b)
 swba_cli_case(switch_given_a_value 2 REGEX "error: option '--no-ekf' takes no value" ARGS run --no-ekf=1)
@@ -149,3 +149,40 @@ endforeach()
 foreach(_c bal pgo directba)
   swba_cli_case(quiet_short_form_${_c} 0 REGEX "-q, +--quiet" ARGS ${_c} --help)
 endforeach()
+
+# --help of every subcommand lists the positional arguments, then the options in a logical order: input, main
+# choices, tuning, output, verbosity (apps/swba/cli.cpp, help_order); every default reads "(Default: X)".
+set(_help_order_run "Where:.*<RAWLOG>.*--gt.*--config.*--windows.*--no-ekf.*--no-batch.*--causal.*--ekf-method.*--policy.*--fej.*--landmarks.*--gauge.*--sensor-std-range.*--gate .*--gate-probability.*--robust-loss.*--robust-probability.*--max-steps.*--threads.*--out.*--no-plots.*--no-progress.*--verbose.*--version.*--help")
+set(_help_order_ape "Where:.*<REF>.*<EST>.*--ref-format.*--pose-relation.*--align.*--correct-scale.*--align-origin.*--t-max-diff.*--t-offset.*--save-results.*--plot.*--version.*--help")
+set(_help_order_rpe "Where:.*<REF>.*<EST>.*--ref-format.*--pose-relation.*--align.*--correct-scale.*--align-origin.*--delta.*--all-pairs.*--t-max-diff.*--t-offset.*--save-results.*--plot.*--version.*--help")
+set(_help_order_monoba "Where:.*--cameras.*--points.*--noise.*--depth-noise.*--pose-noise-m.*--pose-noise-rad.*--seed .*--gauge.*--fix .*--prior-weight.*--sweep-prior-weights.*--seeds.*--repetitions.*--max-iterations.*--threads.*--out.*--progress.*--version.*--help")
+set(_help_order_bal "Where:.*<PROBLEM>.*--linear.*--loss .*--loss-scale.*--max-iterations.*--function-tolerance.*--gradient-tolerance.*--parameter-tolerance.*--threads.*--ply-initial.*--ply-final.*--write-problem.*--quiet.*--version.*--help")
+set(_help_order_pgo "Where:.*<IN.g2o>.*--information.*--init .*--gauge.*--prior-sigma.*--robust .*--robust-scale.*--rotation-error.*--linear.*--max-iterations.*--function-tolerance.*--initial-trust-region.*--threads.*--output.*--quiet.*--version.*--help")
+set(_help_order_directba "Where:.*<DIR>.*--synthetic.*--sigma.*--huber-delta.*--fixed-cameras.*--border.*--iterations.*--threads.*--ply-initial.*--ply-final.*--out .*--quiet.*--version.*--help")
+foreach(_c run ape rpe monoba bal pgo directba)
+  add_test(NAME apps.cli.help_order_${_c} COMMAND $<TARGET_FILE:swba> ${_c} --help)
+  set_tests_properties(apps.cli.help_order_${_c} PROPERTIES PASS_REGULAR_EXPRESSION "${_help_order_${_c}}"
+    FAIL_REGULAR_EXPRESSION "\\.[ \n]+\\(Default|\\([Dd]efault [^:]|\\(default|[^ \n]\\(Default")
+endforeach()
+
+# Data on stdout; notes and the files written on stderr (doc/cli.md): the "Wrote <file>" lines of the solver
+# commands go to stderr, and nothing of them to stdout.
+set(_streams ${_out}/streams)
+file(MAKE_DIRECTORY ${_streams})
+# swba_stream_case(<name> <stderr regex> <swba arguments...>)
+function(swba_stream_case name stderr_regex)
+  string(REPLACE ";" "|" _cmd "$<TARGET_FILE:swba>;${ARGN}")
+  add_test(NAME apps.cli.streams_${name}
+    COMMAND ${CMAKE_COMMAND} "-DCMD=${_cmd}" -DEXPECT_RC=0 "-DSTDERR_REGEX=${stderr_regex}"
+            "-DSTDOUT_NOT_REGEX=Wrote |saved |plot " -P ${_check})
+endfunction()
+swba_stream_case(bal "Wrote ${_streams}/bal_initial.ply .*Wrote ${_streams}/bal_final.ply .*Wrote ${_streams}/bal_solution.txt "
+  bal ${SWBA_DATA_DIR}/bal/problem-49-7776-pre.txt --max-iterations 1 --ply-initial ${_streams}/bal_initial.ply
+  --ply-final ${_streams}/bal_final.ply --write-problem ${_streams}/bal_solution.txt)
+swba_stream_case(pgo "Wrote ${_streams}/pgo.g2o" pgo ${SWBA_DATA_DIR}/posegraph/smallGrid3D.g2o -o ${_streams}/pgo.g2o)
+swba_stream_case(monoba "Wrote ${_streams}/monoba.txt" monoba --out ${_streams}/monoba.txt)
+swba_stream_case(directba "Wrote ${_streams}/directba_initial.ply.*Wrote ${_streams}/directba_final.ply.*Wrote ${_streams}/directba/poses_initial.tum"
+  directba ${SWBA_DATA_DIR}/directba --iterations 1 --ply-initial ${_streams}/directba_initial.ply
+  --ply-final ${_streams}/directba_final.ply --out ${_streams}/directba)
+swba_stream_case(ape "saved ${_streams}/ape/ape_stats.json" ape ${SWBA_DATA_DIR}/evo_reference/gt_kf-slam_6D_demo.tum
+  ${SWBA_DATA_DIR}/evo_reference/ekf_kf-slam_6D_demo.tum --save-results ${_streams}/ape)

@@ -47,7 +47,7 @@ set_tests_properties(eval.e2e.ape_mrpt_gt PROPERTIES PASS_REGULAR_EXPRESSION "\n
 # --help documents every option.
 add_test(NAME eval.e2e.ape_help COMMAND $<TARGET_FILE:swba> ape --help)
 set_tests_properties(eval.e2e.ape_help PROPERTIES PASS_REGULAR_EXPRESSION
-  "--pose-relation.*--align.*--correct-scale.*--align-origin.*--t-max-diff.*--t-offset.*--ref-format.*--save-results.*--plot")
+  "--ref-format.*--pose-relation.*--align.*--correct-scale.*--align-origin.*--t-max-diff.*--t-offset.*--save-results.*--plot")
 add_test(NAME eval.e2e.rpe_help COMMAND $<TARGET_FILE:swba> rpe --help)
 set_tests_properties(eval.e2e.rpe_help PROPERTIES PASS_REGULAR_EXPRESSION "--delta.*--all-pairs")
 

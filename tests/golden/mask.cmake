@@ -5,7 +5,8 @@
 #     the machine's speed;
 #   - a number directly followed by the unit " s" or " ms" (durations);
 #   - in a table whose header has a column named iter_time, total_time, time_ms or ms/step, the
-#     right-aligned entry under that column on every row up to the next blank line (becomes " ~").
+#     right-aligned entry under that column (ending where the header's name ends) on every row up to the
+#     next blank line (becomes " ~").
 function(_swba_mask_time_columns var)
   set(text "${${var}}")
   # Protect list syntax: lines are split on newlines only.
@@ -22,7 +23,16 @@ function(_swba_mask_time_columns var)
     elseif(ends)
       foreach(e IN LISTS ends)
         math(EXPR last "${e} - 1")
-        if(last LESS n)
+        # Only an entry that ends at the column's end (right-aligned under its header) is a time: a line
+        # after the table that runs across the column keeps its figures.
+        set(aligned TRUE)
+        if(e LESS n)
+          string(SUBSTRING "${line}" ${e} 1 after)
+          if(NOT after STREQUAL " ")
+            set(aligned FALSE)
+          endif()
+        endif()
+        if(last LESS n AND aligned)
           string(SUBSTRING "${line}" ${last} 1 c)
           if(NOT c STREQUAL " ")
             set(b ${last})

@@ -10,11 +10,11 @@ namespace swba::apps
 {
 namespace
 {
-void write_ply_of(const std::string& path, const io::BalProblem& bal, std::ostream& out)
+void write_ply_of(const std::string& path, const io::BalProblem& bal, std::ostream& log)
 {
 	if (path.empty()) return;
 	problems::write_bal_ply(path, bal);
-	out << "Wrote " << path << " (" << bal.num_cameras << " camera centres, " << bal.num_points << " points)\n";
+	log << "Wrote " << path << " (" << bal.num_cameras << " camera centres, " << bal.num_points << " points)\n";
 }
 }  // namespace
 
@@ -30,7 +30,7 @@ bool BalAppOptions::is_valid(std::string* why) const
 	return solver.is_valid(why) && loss_is_valid(loss, loss_scale, why);
 }
 
-BalAppResult run_bal_app(const BalAppOptions& options, std::ostream& out)
+BalAppResult run_bal_app(const BalAppOptions& options, std::ostream& out, std::ostream& log)
 {
 	if (std::string why; !options.is_valid(&why)) throw std::invalid_argument(why);
 	const auto loss = make_loss(options.loss, options.loss_scale);
@@ -41,7 +41,7 @@ BalAppResult run_bal_app(const BalAppOptions& options, std::ostream& out)
 	out << "BAL problem " << options.problem_path << ": " << bal.num_cameras << " cameras, " << bal.num_points
 		<< " points, " << bal.observations.size() << " observations (" << result.num_behind_camera
 		<< " with the point behind its camera)\n";
-	write_ply_of(options.ply_initial, bal, out);
+	write_ply_of(options.ply_initial, bal, log);
 
 	Problem problem;
 	const problems::BalVariables vars = problems::add_bal_to_problem(bal, problem, loss);
@@ -59,11 +59,12 @@ BalAppResult run_bal_app(const BalAppOptions& options, std::ostream& out)
 	out << "Observations behind their camera at the solution: " << problems::count_observations_behind_camera(bal)
 		<< "\n";
 
-	write_ply_of(options.ply_final, bal, out);
+	out.flush();
+	write_ply_of(options.ply_final, bal, log);
 	if (!options.write_problem.empty())
 	{
 		io::write_bal(options.write_problem, bal);
-		out << "Wrote " << options.write_problem << " (BAL, solution values)\n";
+		log << "Wrote " << options.write_problem << " (BAL, solution values)\n";
 	}
 	return result;
 }

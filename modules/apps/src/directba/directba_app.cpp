@@ -43,7 +43,7 @@ DirectBAAppResult run_synthetic_check(const DirectBAAppOptions& options, std::os
 
 /** poses_initial.tum, poses_final.tum (world-from-camera) and points_final.ply in options.out_dir. */
 void write_outputs(const DirectBAAppOptions& options, const io::DirectBADataset& data, const DirectBAResult& res,
-				   std::ostream& out)
+				   std::ostream& log)
 {
 	const std::filesystem::path dir(options.out_dir);
 	// The file's timestamps are all equal (1.46323e+09): TUM time = image index instead.
@@ -52,10 +52,10 @@ void write_outputs(const DirectBAAppOptions& options, const io::DirectBADataset&
 	io::write_directba_tum((dir / "poses_initial.tum").string(), t, data.world_from_camera);
 	io::write_directba_tum((dir / "poses_final.tum").string(), t, res.poses);
 	io::write_ply((dir / "points_final.ply").string(), centres(res.poses), res.points);
-	out << "Wrote " << (dir / "poses_initial.tum").string() << ", poses_final.tum, points_final.ply\n";
+	log << "Wrote " << (dir / "poses_initial.tum").string() << ", poses_final.tum, points_final.ply\n";
 }
 
-DirectBAAppResult run_on_dataset(const DirectBAAppOptions& options, std::ostream& out)
+DirectBAAppResult run_on_dataset(const DirectBAAppOptions& options, std::ostream& out, std::ostream& log)
 {
 	const DirectBAOptions& opt = options.adjustment;
 	const auto data = io::read_directba_dataset(options.dataset_dir);
@@ -67,19 +67,21 @@ DirectBAAppResult run_on_dataset(const DirectBAAppOptions& options, std::ostream
 	if (!options.ply_initial.empty())
 	{
 		io::write_ply(options.ply_initial, centres(data.world_from_camera), positions(data.points));
-		out << "Wrote " << options.ply_initial << "\n";
+		out.flush();
+		log << "Wrote " << options.ply_initial << "\n";
 	}
 	DirectBAAppResult r;
 	r.result = run_direct_ba(data, opt);
 	out << r.result.summary.full_report() << format_direct_ba_report(r.result);
+	out.flush();
 	if (!r.result.summary.is_solution_usable())
 		throw std::runtime_error("optimisation failed: " + r.result.summary.message);
 	if (!options.ply_final.empty())
 	{
 		io::write_ply(options.ply_final, centres(r.result.poses), r.result.points);
-		out << "Wrote " << options.ply_final << "\n";
+		log << "Wrote " << options.ply_final << "\n";
 	}
-	if (!options.out_dir.empty()) write_outputs(options, data, r.result, out);
+	if (!options.out_dir.empty()) write_outputs(options, data, r.result, log);
 	return r;
 }
 }  // namespace
@@ -96,9 +98,9 @@ bool DirectBAAppOptions::is_valid(std::string* why) const
 	return true;
 }
 
-DirectBAAppResult run_directba_app(const DirectBAAppOptions& options, std::ostream& out)
+DirectBAAppResult run_directba_app(const DirectBAAppOptions& options, std::ostream& out, std::ostream& log)
 {
 	if (std::string why; !options.is_valid(&why)) throw std::invalid_argument(why);
-	return options.synthetic ? run_synthetic_check(options, out) : run_on_dataset(options, out);
+	return options.synthetic ? run_synthetic_check(options, out) : run_on_dataset(options, out, log);
 }
 }  // namespace swba::apps

@@ -21,7 +21,7 @@ bool MonoBAAppOptions::is_valid(std::string* why) const
 	return scene.is_valid(why) && adjustment.is_valid(why) && sweep_options().is_valid(why);
 }
 
-std::string run_monoba_app(const MonoBAAppOptions& options, std::ostream& out)
+std::string run_monoba_app(const MonoBAAppOptions& options, std::ostream& out, std::ostream& log)
 {
 	if (std::string why; !options.is_valid(&why)) throw std::invalid_argument(why);
 	std::string text;
@@ -46,7 +46,8 @@ std::string run_monoba_app(const MonoBAAppOptions& options, std::ostream& out)
 	if (!options.out_path.empty())
 	{
 		write_file_atomically(options.out_path, [&](std::ostream& f) { f << text; });
-		out << "Wrote " << options.out_path << "\n";
+		out.flush();
+		log << "Wrote " << options.out_path << "\n";
 	}
 	return text;
 }

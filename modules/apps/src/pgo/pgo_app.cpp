@@ -94,7 +94,8 @@ PgoAppResult run_pgo_app(const PgoAppOptions& options, std::ostream& out, std::o
 	if (!options.output_path.empty())
 	{
 		io::write_g2o(graph, options.output_path);
-		out << "Wrote " << options.output_path << "\n";
+		out.flush();
+		log << "Wrote " << options.output_path << "\n";
 	}
 	return result;
 }

@@ -37,8 +37,8 @@ struct BalAppResult
 };
 
 /** Reads, solves (printing the per-iteration table if options.solver.progress_to_stdout, then the
- * full report) and writes the requested outputs. Report lines go to `out`. Throws
+ * full report) and writes the requested outputs. Report lines go to `out`, the "Wrote <file>" lines to `log`. Throws
  * std::invalid_argument on invalid options, std::runtime_error on unreadable input or unwritable
  * output. */
-BalAppResult run_bal_app(const BalAppOptions& options, std::ostream& out);
+BalAppResult run_bal_app(const BalAppOptions& options, std::ostream& out, std::ostream& log);
 }  // namespace swba::apps

@@ -129,8 +129,8 @@ struct DirectBAAppResult
 	bool synthetic_pass = false;
 };
 
-/** Runs the adjustment on the data set (or the synthetic check) and prints the report to `out`.
+/** Runs the adjustment on the data set (or the synthetic check) and prints the report to `out`, the "Wrote <file>" lines to `log`.
  * Throws std::invalid_argument on invalid options, std::runtime_error on unreadable data,
  * unwritable outputs or a failed optimisation of the data set (after the report). */
-DirectBAAppResult run_directba_app(const DirectBAAppOptions& options, std::ostream& out);
+DirectBAAppResult run_directba_app(const DirectBAAppOptions& options, std::ostream& out, std::ostream& log);
 }  // namespace swba::apps

@@ -150,8 +150,8 @@ struct MonoBAAppOptions
 };
 
 /** Runs the adjustment (prints its report) or the sweep (prints its table) to `out` and writes
- * options.out_path. Returns the text printed. Throws std::invalid_argument on invalid options,
+ * options.out_path ("Wrote <file>" on `log`). Returns the text printed. Throws std::invalid_argument on invalid options,
  * std::runtime_error when the adjustment fails (after printing the report) or the file cannot be
  * written. */
-std::string run_monoba_app(const MonoBAAppOptions& options, std::ostream& out);
+std::string run_monoba_app(const MonoBAAppOptions& options, std::ostream& out, std::ostream& log);
 }  // namespace swba::apps
