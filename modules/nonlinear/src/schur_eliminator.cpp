@@ -11,6 +11,8 @@ namespace swba::detail
 {
 namespace
 {
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
 double damped(double d, double lambda, double min_diag, double max_diag)
 {
 	return lambda * std::clamp(d, min_diag, max_diag);
@@ -398,5 +400,46 @@ bool SchurEliminator::solve_damped(double lambda, double min_diag, double max_di
 		for (int l = 0; l < ne; l++) back_substitute<NP, NL>(l, delta.data());
 	});
 	return delta.allFinite();
+}
+
+void SchurEliminator::solve_factorized(Eigen::VectorXd& x, const std::vector<char>& back) const
+{
+	const auto& kept = program_.kept();
+	const auto& elim = program_.elim();
+	const int kept_dim = program_.kept_dim();
+	Eigen::VectorXd t, u;
+	// r_p = b_p − Σ_l H_pl H_ll⁻¹ b_l over the eliminated variables with a non-zero b_l.
+	for (int l = 0; l < program_.num_elim(); l++)
+	{
+		const int nl = elim[l].tangent;
+		const auto bl = x.segment(kept_dim + elim[l].offset, nl);
+		if (bl.isZero(0)) continue;
+		t = Eigen::Map<const RowMatrix>(Hll_inv_.data() + ne_.ll_offset(l), nl, nl) * bl;
+		for (const int pa : ne_.elim_pl(l))
+		{
+			const auto& pb = ne_.pl_blocks()[pa];
+			const int na = kept[pb.kept].tangent;
+			x.segment(kept[pb.kept].offset, na) -= Eigen::Map<const RowMatrix>(ne_.hlp(pa), nl, na).transpose() * t;
+		}
+	}
+	if (kept_dim > 0) cholesky_->solve(x.data());
+	for (int l = 0; l < program_.num_elim(); l++)
+	{
+		const int nl = elim[l].tangent;
+		auto xl = x.segment(kept_dim + elim[l].offset, nl);
+		if (!back.empty() && !back[l])
+		{
+			xl.setZero();
+			continue;
+		}
+		u = xl;
+		for (const int pa : ne_.elim_pl(l))
+		{
+			const auto& pb = ne_.pl_blocks()[pa];
+			const int na = kept[pb.kept].tangent;
+			u -= Eigen::Map<const RowMatrix>(ne_.hlp(pa), nl, na) * x.segment(kept[pb.kept].offset, na);
+		}
+		xl = Eigen::Map<const RowMatrix>(Hll_inv_.data() + ne_.ll_offset(l), nl, nl) * u;
+	}
 }
 }  // namespace swba::detail
