@@ -73,20 +73,6 @@ LandmarkPolicy parse_landmark_policy(const std::string& s);                     
 std::string to_string(LandmarkParameterization p);
 std::string to_string(LandmarkPolicy p);
 
-/** Marginal covariance of a pose in the solver's tangent convention: right perturbation
- * T = T̂·Exp(δ), δ = [ρ, ω] (t ← t + R ρ, R ← R Exp(ω)), as SE3Manifold. A planar pose's 3×3 over
- * (ρx, ρy, ωz) sits at rows and columns (0, 1, 5), the other entries zero. NaN where it could not
- * be computed (doc/formats.md, "Covariance files"). */
-using PoseCovariance = Eigen::Matrix<double, 6, 6>;
-
-/** A landmark's final estimate: world position and its marginal covariance (planar: the 2×2 of
- * (x, y), z row and column zero). */
-struct LandmarkEstimate
-{
-	Eigen::Vector3d position = Eigen::Vector3d::Zero();
-	Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-};
-
 struct SlidingWindowOptions
 {
 	/** Number of poses kept in the window (W ≥ 2); 0 = unbounded (no marginalisation). Default 10. */
