@@ -6,6 +6,7 @@
 #include <swba/core/manifold.h>
 #include <swba/factors/planar.h>
 
+#include <exception>
 #include <limits>
 
 namespace swba::estimators::detail
@@ -49,15 +50,16 @@ CovarianceResult RangeBearingGraph::covariances(CovarianceRequest request)
 		}
 		problem.set_constant(hold, true);
 	}
+	// A covariance that cannot be computed is reported (NaN), never a failure of the estimate.
 	CovarianceResult r;
 	try
 	{
 		r = marginal_covariance(problem, request, opt_.solver);
 	}
-	catch (...)
+	catch (const std::exception& e)
 	{
-		if (hold >= 0) problem.set_constant(hold, false);
-		throw;
+		r = CovarianceResult{};
+		r.message = e.what();
 	}
 	if (hold >= 0) problem.set_constant(hold, false);
 	return r;
