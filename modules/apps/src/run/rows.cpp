@@ -98,10 +98,10 @@ void log_step_summary(std::ostream& log, const std::string& label, const estimat
 	char buf[320];
 	std::snprintf(buf, sizeof(buf),
 				  "%s step %zu: LM %d it, cost %.6g -> %.6g, %s (%s); %d poses, %d landmarks, prior rank %d; "
-				  "solve %.2f ms, marginalisation %.2f ms, step %.2f ms\n",
+				  "solve %.2f ms, marginalisation %.2f ms, covariance %.2f ms, step %.2f ms\n",
 				  label.c_str(), s.step, s.iterations, s.initial_cost, s.final_cost, to_string(s.termination),
 				  s.solver_message.c_str(), s.window_poses, s.landmarks, s.prior_rank, s.solve_seconds * 1e3,
-				  s.marginalization_seconds * 1e3, seconds * 1e3);
+				  s.marginalization_seconds * 1e3, s.covariance_seconds * 1e3, seconds * 1e3);
 	log << buf << std::flush;
 }
 
