@@ -5,7 +5,7 @@
 #include "covariance_recovery.h"
 #include "solver_context.h"
 
-#include <Eigen/Cholesky>
+#include <Eigen/Dense>
 #include <chrono>
 #include <stdexcept>
 
@@ -47,7 +47,26 @@ class Recovery
 			return out;
 		}
 		if (!request_.gauge.empty()) gauge_solves(out);
-		for (const auto& group : request_.groups) out.blocks.push_back(group_block(group, out));
+		std::vector<Group> groups;
+		for (const auto& g : request_.groups) groups.push_back(layout(g));
+		// Solve the columns of several groups at once (one pass through the factor per chunk).
+		std::size_t first = 0;
+		int columns = 0;
+		for (std::size_t g = 0; g < groups.size(); g++)
+		{
+			columns += groups[g].free_columns;
+			if (columns >= kColumnsPerChunk || g + 1 == groups.size())
+			{
+				solve_chunk(groups, first, g + 1, columns, out);
+				first = g + 1;
+				columns = 0;
+			}
+		}
+		for (std::size_t g = 0; g < groups.size(); g++)
+		{
+			project_to_gauge(groups[g]);
+			out.blocks.push_back(0.5 * (groups[g].S + groups[g].S.transpose()));
+		}
 		out.ok = true;
 		for (const auto& b : out.blocks) out.ok = out.ok && b.allFinite();
 		if (!out.ok) out.message = "a covariance is not finite";
@@ -55,25 +74,80 @@ class Recovery
 	}
 
    private:
-	Slot slot(VariableId v, const Problem& problem) const
+	/** Right-hand sides solved together: enough to amortise a pass through a sparse factor, few enough
+	 * to keep the block of solutions small. */
+	static constexpr int kColumnsPerChunk = 64;
+
+	/** A requested group: its variables' slots, their offsets in the block, the block. */
+	struct Group
+	{
+		std::vector<VariableId> vars;
+		std::vector<Slot> slots;
+		std::vector<int> at;
+		int free_columns = 0;  ///< tangent coordinates of its non-constant variables
+		Eigen::MatrixXd S;
+	};
+
+	Slot slot(VariableId v) const
 	{
 		auto it = slots_.find(v);
 		if (it != slots_.end()) return it->second;
 		Slot s;
-		s.tangent = problem.variable(v).manifold->tangent_size();
+		s.tangent = ctx_.program().problem().variable(v).manifold->tangent_size();
 		return s;
 	}
 
-	/** Back-substitution mask: the eliminated variables of `group`. */
-	std::vector<char> back_mask(const std::vector<Slot>& slots) const
+	Group layout(const std::vector<VariableId>& vars) const
 	{
-		std::vector<char> back(static_cast<size_t>(ctx_.program().num_elim()), 0);
-		for (const auto& s : slots)
-			if (s.elim >= 0) back[s.elim] = 1;
-		return back;
+		Group g;
+		g.vars = vars;
+		int m = 0;
+		for (VariableId v : vars)
+		{
+			g.slots.push_back(slot(v));
+			g.at.push_back(m);
+			m += g.slots.back().tangent;
+			if (g.slots.back().offset >= 0) g.free_columns += g.slots.back().tangent;
+		}
+		g.S = Eigen::MatrixXd::Zero(m, m);
+		return g;
 	}
 
-	/** G = Σ N (over the whole vector) and the k × k matrices M = (NᵀN)⁻¹, NᵀG. */
+	/** Solves the unit columns of the non-constant variables of groups [first, last) and fills their
+	 * blocks: column j of Σ restricted to each group's rows. */
+	void solve_chunk(std::vector<Group>& groups, std::size_t first, std::size_t last, int columns,
+					 CovarianceResult& out)
+	{
+		if (columns == 0) return;
+		Eigen::MatrixXd X = Eigen::MatrixXd::Zero(dim_, columns);
+		std::vector<char> back(static_cast<std::size_t>(ctx_.program().num_elim()), 0);
+		int c = 0;
+		for (std::size_t g = first; g < last; g++)
+			for (const Slot& s : groups[g].slots)
+			{
+				if (s.elim >= 0) back[static_cast<std::size_t>(s.elim)] = 1;
+				if (s.offset < 0) continue;
+				for (int j = 0; j < s.tangent; j++) X(s.offset + j, c++) = 1.0;
+			}
+		ctx_.eliminator().solve_factorized(X, back);
+		out.solves += columns;
+		c = 0;
+		for (std::size_t g = first; g < last; g++)
+		{
+			Group& G = groups[g];
+			for (std::size_t i = 0; i < G.slots.size(); i++)
+			{
+				if (G.slots[i].offset < 0) continue;
+				for (int j = 0; j < G.slots[i].tangent; j++, c++)
+					for (std::size_t r = 0; r < G.slots.size(); r++)
+						if (G.slots[r].offset >= 0)
+							G.S.block(G.at[r], G.at[i] + j, G.slots[r].tangent, 1) =
+								X.block(G.slots[r].offset, c, G.slots[r].tangent, 1);
+			}
+		}
+	}
+
+	/** G = Σ N (over the whole vector) and the k × k matrices M = (NᵀN)⁺, NᵀG. */
 	void gauge_solves(CovarianceResult& out)
 	{
 		int k = 0;
@@ -86,67 +160,33 @@ class Recovery
 			auto it = slots_.find(v);
 			if (it != slots_.end()) N_.middleRows(it->second.offset, B.rows()) = B;
 		}
-		M_ = NtN.ldlt().solve(Eigen::MatrixXd::Identity(k, k));
-		G_.resize(dim_, k);
-		for (int c = 0; c < k; c++)
-		{
-			Eigen::VectorXd x = N_.col(c);
-			ctx_.eliminator().solve_factorized(x);
-			G_.col(c) = x;
-			out.solves++;
-		}
+		// Pseudo-inverse: a planar model's off-plane motions are zero columns.
+		M_ = NtN.completeOrthogonalDecomposition().pseudoInverse();
+		G_ = N_;
+		ctx_.eliminator().solve_factorized(G_);
+		out.solves += k;
 		NtG_ = N_.transpose() * G_;
 	}
 
-	const Problem& problem_of() const { return ctx_.program().problem(); }
-
-	Eigen::MatrixXd group_block(const std::vector<VariableId>& group, CovarianceResult& out)
+	/** Q Σ Qᵀ restricted to the group, Q = I − N M Nᵀ: Σ − N M Gᵀ − G M Nᵀ + N M (NᵀG) M Nᵀ. A constant
+	 * variable has Σ = 0 and G = 0 rows: only the last term moves it. Nothing without gauge directions. */
+	void project_to_gauge(Group& g) const
 	{
-		std::vector<Slot> slots;
-		std::vector<int> at;  // offset of each variable in the block
-		int m = 0;
-		for (VariableId v : group)
+		if (N_.cols() == 0) return;
+		Eigen::MatrixXd Ng = Eigen::MatrixXd::Zero(g.S.rows(), N_.cols()), Gg = Ng;
+		for (std::size_t i = 0; i < g.slots.size(); i++)
 		{
-			slots.push_back(slot(v, problem_of()));
-			at.push_back(m);
-			m += slots.back().tangent;
-		}
-		const std::vector<char> back = back_mask(slots);
-		Eigen::MatrixXd S = Eigen::MatrixXd::Zero(m, m);
-		Eigen::MatrixXd Ng = Eigen::MatrixXd::Zero(m, N_.cols()), Gg = Ng;
-		for (size_t i = 0; i < slots.size(); i++)
-		{
-			if (slots[i].offset < 0)
+			const int t = g.slots[i].tangent;
+			if (g.slots[i].offset >= 0)
 			{
-				// A held variable: no covariance of its own, but the gauge moves it like the others.
-				auto it = request_.gauge.find(group[i]);
-				if (it != request_.gauge.end()) Ng.middleRows(at[i], slots[i].tangent) = it->second;
-				continue;
+				Ng.middleRows(g.at[i], t) = N_.middleRows(g.slots[i].offset, t);
+				Gg.middleRows(g.at[i], t) = G_.middleRows(g.slots[i].offset, t);
 			}
-			for (int j = 0; j < slots[i].tangent; j++)
-			{
-				Eigen::VectorXd x = Eigen::VectorXd::Zero(dim_);
-				x(slots[i].offset + j) = 1.0;
-				ctx_.eliminator().solve_factorized(x, back);
-				out.solves++;
-				for (size_t r = 0; r < slots.size(); r++)
-					if (slots[r].offset >= 0)
-						S.block(at[r], at[i] + j, slots[r].tangent, 1) = x.segment(slots[r].offset, slots[r].tangent);
-			}
-			if (N_.cols() > 0)
-			{
-				Ng.middleRows(at[i], slots[i].tangent) = N_.middleRows(slots[i].offset, slots[i].tangent);
-				Gg.middleRows(at[i], slots[i].tangent) = G_.middleRows(slots[i].offset, slots[i].tangent);
-			}
+			else if (auto it = request_.gauge.find(g.vars[i]); it != request_.gauge.end())
+				Ng.middleRows(g.at[i], t) = it->second;  // a held variable: moved by the gauge like the others
 		}
-		if (N_.cols() > 0)
-		{
-			// Q Σ Qᵀ restricted to the group, Q = I − N M Nᵀ: Σ − N M Gᵀ − G M Nᵀ + N M (NᵀG) M Nᵀ.
-			// A constant variable has Σ = 0 and G = 0 rows: only the last term moves it.
-			const Eigen::MatrixXd NM = Ng * M_;
-			S += -NM * Gg.transpose() - Gg * NM.transpose() + NM * NtG_ * NM.transpose();
-		}
-		return 0.5 * (S + S.transpose());
+		const Eigen::MatrixXd NM = Ng * M_;
+		g.S += -NM * Gg.transpose() - Gg * NM.transpose() + NM * NtG_ * NM.transpose();
 	}
 
 	SolverContext& ctx_;

@@ -402,44 +402,49 @@ bool SchurEliminator::solve_damped(double lambda, double min_diag, double max_di
 	return delta.allFinite();
 }
 
-void SchurEliminator::solve_factorized(Eigen::VectorXd& x, const std::vector<char>& back) const
+void SchurEliminator::solve_factorized(Eigen::MatrixXd& X, const std::vector<char>& back) const
 {
 	const auto& kept = program_.kept();
 	const auto& elim = program_.elim();
 	const int kept_dim = program_.kept_dim();
-	Eigen::VectorXd t, u;
-	// r_p = b_p − Σ_l H_pl H_ll⁻¹ b_l over the eliminated variables with a non-zero b_l.
+	Eigen::MatrixXd T, U;
+	// R_p = B_p − Σ_l H_pl H_ll⁻¹ B_l over the eliminated variables with a non-zero B_l.
 	for (int l = 0; l < program_.num_elim(); l++)
 	{
 		const int nl = elim[l].tangent;
-		const auto bl = x.segment(kept_dim + elim[l].offset, nl);
-		if (bl.isZero(0)) continue;
-		t = Eigen::Map<const RowMatrix>(Hll_inv_.data() + ne_.ll_offset(l), nl, nl) * bl;
+		const auto Bl = X.middleRows(kept_dim + elim[l].offset, nl);
+		if (Bl.isZero(0)) continue;
+		T = Eigen::Map<const RowMatrix>(Hll_inv_.data() + ne_.ll_offset(l), nl, nl) * Bl;
 		for (const int pa : ne_.elim_pl(l))
 		{
 			const auto& pb = ne_.pl_blocks()[pa];
 			const int na = kept[pb.kept].tangent;
-			x.segment(kept[pb.kept].offset, na) -= Eigen::Map<const RowMatrix>(ne_.hlp(pa), nl, na).transpose() * t;
+			X.middleRows(kept[pb.kept].offset, na) -= Eigen::Map<const RowMatrix>(ne_.hlp(pa), nl, na).transpose() * T;
 		}
 	}
-	if (kept_dim > 0) cholesky_->solve(x.data());
+	if (kept_dim > 0)
+	{
+		Eigen::MatrixXd P = X.topRows(kept_dim);
+		cholesky_->solve_columns(P.data(), static_cast<int>(P.cols()));
+		X.topRows(kept_dim) = P;
+	}
 	for (int l = 0; l < program_.num_elim(); l++)
 	{
 		const int nl = elim[l].tangent;
-		auto xl = x.segment(kept_dim + elim[l].offset, nl);
+		auto Xl = X.middleRows(kept_dim + elim[l].offset, nl);
 		if (!back.empty() && !back[l])
 		{
-			xl.setZero();
+			Xl.setZero();
 			continue;
 		}
-		u = xl;
+		U = Xl;
 		for (const int pa : ne_.elim_pl(l))
 		{
 			const auto& pb = ne_.pl_blocks()[pa];
 			const int na = kept[pb.kept].tangent;
-			u -= Eigen::Map<const RowMatrix>(ne_.hlp(pa), nl, na) * x.segment(kept[pb.kept].offset, na);
+			U -= Eigen::Map<const RowMatrix>(ne_.hlp(pa), nl, na) * X.middleRows(kept[pb.kept].offset, na);
 		}
-		xl = Eigen::Map<const RowMatrix>(Hll_inv_.data() + ne_.ll_offset(l), nl, nl) * u;
+		Xl = Eigen::Map<const RowMatrix>(Hll_inv_.data() + ne_.ll_offset(l), nl, nl) * U;
 	}
 }
 }  // namespace swba::detail
