@@ -3,6 +3,9 @@
 // (share/rawlogs/large_6D_5000.ini, generated with scripts/make-rawlogs.sh when missing), with the
 // APE (translation rmse, not aligned) beside each time, where the window's time goes (LM solve vs
 // marginalisation, state size), and the per-step cost along the run (mean ms/step over each tenth).
+// With --covariance-off the window also runs with covariance recovery off, and a table compares the two
+// in the same run (the ratio of ms/step, fastest of three alternating runs each, and the recovery's own
+// share of the step time).
 // A benchmark, not a test: timings vary ±25 % between runs on shared machines; compare within a run.
 #include <swba/apps/run.h>
 #include <swba/eval/ground_truth.h>
@@ -118,6 +121,40 @@ std::string per_tenth_table(const RunReport& rep)
 	return s.str();
 }
 
+/** Label suffix of the rows run with covariance recovery off (--covariance-off). */
+constexpr const char* kCovarianceOff = " (covariances off)";
+
+bool covariance_off(const RunRow& r) { return r.label.find(kCovarianceOff) != std::string::npos; }
+
+/** Covariances on vs off, measured in the same run: per window (online row with its twin run without
+ * covariances) the ms/step of each, their ratio, and the recovery's own share of the step time. */
+std::string covariance_table(const RunReport& rep)
+{
+	std::ostringstream s;
+	s << "| estimator | W | ms/step on | ms/step off | on / off | covariance ms/step | covariance share of step |\n";
+	s << "|---|---:|---:|---:|---:|---:|---:|\n";
+	for (const auto& on : rep.rows)
+	{
+		if (on.name != "window" || on.trajectory != "online" || covariance_off(on) || on.step_summaries.empty()) continue;
+		for (const auto& off : rep.rows)
+		{
+			if (!covariance_off(off) || off.trajectory != "online" || off.window != on.window || off.policy != on.policy)
+				continue;
+			double cov = 0, total = 0;
+			for (const auto& st : on.step_summaries)
+			{
+				cov += st.covariance_seconds;
+				total += st.seconds;
+			}
+			const double n = double(on.step_summaries.size());
+			s << "| " << row_name(on) << " | " << window_cell(on) << " | " << fmt("%.2f", on.ms_per_step) << " | "
+			  << fmt("%.2f", off.ms_per_step) << " | " << fmt("%.3f", on.ms_per_step / off.ms_per_step) << " | "
+			  << fmt("%.3f", cov * 1e3 / n) << " | " << fmt("%.1f %%", total > 0 ? 100 * cov / total : 0.0) << " |\n";
+		}
+	}
+	return s.str();
+}
+
 /** The markdown tables of one rawlog. */
 std::string tables(const RunReport& rep, const std::string& title)
 {
@@ -129,6 +166,9 @@ std::string tables(const RunReport& rep, const std::string& title)
 	s << "\nPer-step cost along the run (mean ms/step over each tenth of the steps):\n\n";
 	s << per_tenth_table(rep);
 	s << "\n";
+	bool compared = false;
+	for (const auto& r : rep.rows) compared = compared || covariance_off(r);
+	if (compared) s << "Covariance recovery on vs off (same run):\n\n" << covariance_table(rep) << "\n";
 	return s.str();
 }
 
@@ -178,6 +218,8 @@ struct BenchCommandLine
 		"swba run's INI (doc/run.md) for the window's and solver's options, e.g. [solver] max_iterations; the "
 		"rawlog, windows, policies and EKF methods still come from this command line. (Default: built-in)",
 		false, "", "INI"};
+	TCLAP::SwitchArg covariance_off{"", "covariance-off",
+									"also run each window with covariance recovery off, and compare (same run)"};
 	TCLAP::SwitchArg keep_prior_only{
 		"", "keep-prior-only-landmarks",
 		"solve with every landmark of the prior in the LM problem (SlidingWindowOptions::eliminate_prior_only_landmarks "
@@ -187,7 +229,7 @@ struct BenchCommandLine
 	{
 		// TCLAP lists options in reverse order of addition.
 		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{
-				 &keep_prior_only, &config, &markdown, &no_ekf, &no_large, &no_small, &slam_large_steps,
+				 &covariance_off, &keep_prior_only, &config, &markdown, &no_ekf, &no_large, &no_small, &slam_large_steps,
 				 &ekf_large_steps, &large_steps, &ekf_method, &policy, &windows, &rawlog_dir, &large, &small})
 			cmd.add(*a);
 	}
@@ -255,6 +297,7 @@ BenchInput read_input(const std::string& rawlog, std::size_t steps)
  * "(first n steps)" when that is fewer than were read. Nothing when `o` runs no estimator. */
 void run_part(const RunOptions& o, const BenchInput& in, std::size_t n, RunReport& rep)
 {
+	const std::string suffix = o.window.covariances ? "" : kCovarianceOff;
 	if (o.windows.empty() && !o.run_ekf) return;
 	auto part = in.log;
 	if (n && n < part.steps.size()) part.steps.resize(n);
@@ -263,13 +306,38 @@ void run_part(const RunOptions& o, const BenchInput& in, std::size_t n, RunRepor
 	{
 		if (part.steps.size() < in.log.steps.size())
 			row.label += " (first " + std::to_string(part.steps.size()) + " steps)";
+		row.label += suffix;
 		rep.rows.push_back(std::move(row));
 	}
 }
 
+/** The window of `w` with covariances on and off, alternately kCovarianceRepeats times each, keeping the
+ * fastest run of each (the minimum is what other load on a shared machine disturbs least; single runs
+ * of the two differed by up to ±25 % either way, and the first run of a process is slower). */
+void run_covariance_pair(const RunOptions& w, const BenchInput& in, std::size_t n, RunReport& rep)
+{
+	constexpr int kCovarianceRepeats = 5;
+	RunOptions off = w;
+	off.window.covariances = false;
+	RunReport best_on, best_off;
+	const auto keep_faster = [](RunReport& best, RunReport&& r) {
+		if (best.rows.empty() || (!r.rows.empty() && r.rows[0].ms_per_step < best.rows[0].ms_per_step)) best = std::move(r);
+	};
+	for (int i = 0; i < kCovarianceRepeats; i++)
+	{
+		RunReport a, b;
+		run_part(w, in, n, a);
+		run_part(off, in, n, b);
+		keep_faster(best_on, std::move(a));
+		keep_faster(best_off, std::move(b));
+	}
+	for (auto* r : {&best_on, &best_off})
+		for (auto& row : r->rows) rep.rows.push_back(std::move(row));
+}
+
 /** One rawlog: the EKF, the SLAM window and the constant-time window each on its own number of
  * steps, rows merged into one report. */
-RunReport run_rawlog(const RunOptions& base, const std::string& rawlog, const StepLimits& limits)
+RunReport run_rawlog(const RunOptions& base, const std::string& rawlog, const StepLimits& limits, bool compare_covariance)
 {
 	const BenchInput in = read_input(rawlog, limits.read);
 	RunReport rep;
@@ -285,16 +353,20 @@ RunReport run_rawlog(const RunOptions& base, const std::string& rawlog, const St
 		RunOptions w = base;
 		w.run_ekf = false;
 		w.policies = {policy};
-		run_part(w, in, policy == swba::estimators::LandmarkPolicy::Slam ? limits.slam_window : 0, rep);
+		const std::size_t n = policy == swba::estimators::LandmarkPolicy::Slam ? limits.slam_window : 0;
+		if (compare_covariance)
+			run_covariance_pair(w, in, n, rep);
+		else
+			run_part(w, in, n, rep);
 	}
 	return rep;
 }
 
 /** Runs one rawlog, prints its tables to stdout and returns them (for --markdown). */
 std::string bench_rawlog(const RunOptions& base, const std::string& rawlog, const StepLimits& limits,
-						 const std::string& title)
+						 const std::string& title, bool compare_covariance)
 {
-	const std::string t = tables(run_rawlog(base, rawlog, limits), title);
+	const std::string t = tables(run_rawlog(base, rawlog, limits, compare_covariance), title);
 	std::cout << t << std::flush;
 	return t;
 }
@@ -316,11 +388,12 @@ int main(int argc, char** argv)
 		if (!cl.cmd.parse(argc, argv)) return 0;
 		const RunOptions base = cl.run_options();
 		std::string all;
-		if (!cl.no_small.getValue()) all += bench_rawlog(base, cl.small.getValue(), {}, "kf-slam_6D_demo");
+		const bool cov = cl.covariance_off.getValue();
+		if (!cl.no_small.getValue()) all += bench_rawlog(base, cl.small.getValue(), {}, "kf-slam_6D_demo", cov);
 		if (!cl.no_large.getValue())
 		{
 			const std::string large = cl.large_rawlog();
-			all += bench_rawlog(base, large, cl.large_step_limits(), "large_6D_5000 (simul-landmarks)");
+			all += bench_rawlog(base, large, cl.large_step_limits(), "large_6D_5000 (simul-landmarks)", cov);
 		}
 		if (!cl.markdown.getValue().empty()) write_markdown(cl.markdown.getValue(), all);
 		return 0;

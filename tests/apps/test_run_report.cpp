@@ -210,7 +210,7 @@ TEST(RunSummaryJson, ShapeOfTheIssueExample)
 	const std::vector<std::string> stats = {"rmse", "mean", "median", "max", "min", "sse", "std"};
 	const std::vector<std::string> row_keys = {"name", "label", "window", "trajectory", "policy", "fej", "method", "file",
 											   "poses", "ape_trans", "ape_full", "seconds", "ms_per_step",
-											   "steps_processed", "readings", "failed", "failed_step", "failure", "interrupted"};
+											   "covariance_seconds", "steps_processed", "readings", "failed", "failed_step", "failure", "interrupted"};
 	for (std::size_t i = 0; i < rep.rows.size(); i++)
 	{
 		const Json& e = j["estimators"][i];

@@ -131,7 +131,7 @@ set_tests_properties(runapp.e2e.out_dir_is_a_file PROPERTIES TIMEOUT 60)
 
 # --verbose: a line per window step, then the batch's full solver report (stderr).
 swba_run_case(verbose 0
-  REGEX "window W=3 step 0: LM [0-9]+ it, cost [^\n]*\n.*window W=3 step 4: LM [0-9]+ it, cost [0-9.e+-]+ -> [0-9.e+-]+, CONVERGENCE \\([a-z ]+\\); 3 poses, [0-9]+ landmarks, prior rank [0-9]+; solve [0-9.]+ ms, marginalisation [0-9.]+ ms, step [0-9.]+ ms\n.*batch: [0-9]+ solve round\\(s\\); the last:\n.*Final cost: +[0-9.e+]+\n.*Termination: CONVERGENCE"
+  REGEX "window W=3 step 0: LM [0-9]+ it, cost [^\n]*\n.*window W=3 step 4: LM [0-9]+ it, cost [0-9.e+-]+ -> [0-9.e+-]+, CONVERGENCE \\([a-z ]+\\); 3 poses, [0-9]+ landmarks, prior rank [0-9]+; solve [0-9.]+ ms, marginalisation [0-9.]+ ms, covariance [0-9.]+ ms, step [0-9.]+ ms\n.*batch: [0-9]+ solve round\\(s\\); the last:\n.*Final cost: +[0-9.e+]+\n.*Termination: CONVERGENCE"
   ARGS --max-steps 5 --windows 3 --no-ekf --verbose --no-plots --no-progress --out ${_out}/verbose)
 
 # SIGINT / SIGTERM mid-run (tests/apps/interrupt.sh): exit 130 / 143, complete rows kept, the rest

@@ -186,3 +186,45 @@ TEST(FixedLagSmoother, MarginalisationCountsFactorsItCannotEvaluate)
 	EXPECT_EQ(m.removed.size(), 2u);
 	EXPECT_EQ(m.unevaluable_factors, 1);
 }
+
+// Covariances from update() on the linear-Gaussian chain: at every step, the newest state's and the
+// oldest state's (about to leave) marginal covariance must be the exact marginal given the factors so
+// far, i.e. the block of the dense inverse of the full-history information (marginalisation is exact).
+TEST(FixedLagSmoother, UpdateCovariancesAreTheExactMarginalsOfALinearGaussianChain)
+{
+	const int n = 9, lag = 3;
+	const Chain c = make_chain(n);
+	FixedLagSmootherOptions opt;
+	opt.lag = lag;
+	opt.solver.max_iterations = 50;
+	FixedLagSmoother sm(opt);
+	std::vector<VariableId> x;
+	double worst = 0;
+	for (int j = 0; j < n; j++)
+	{
+		x.push_back(sm.problem().add_variable(c.guess[j], euclidean_manifold(2)));
+		sm.add_state(j, x.back());
+		if (j == 0) sm.add_factor(c.prior, {x[0]});
+		for (const auto& [ij, f] : c.factors)
+			if (ij.second == j) sm.add_factor(f, {x[ij.first], x[j]});
+		CovarianceRequest request;
+		request.groups = {{x[j]}, {sm.states().front().var}};
+		const UpdateSummary u = sm.update([](VariableId) { return false; }, request);
+		ASSERT_TRUE(u.covariance.ok) << u.covariance.message;
+		// The exact marginal: states 0..j with every factor so far.
+		Problem full;
+		std::vector<VariableId> fx;
+		for (int i = 0; i <= j; i++) fx.push_back(full.add_variable(c.guess[i], euclidean_manifold(2)));
+		full.add_factor(c.prior, {fx[0]});
+		for (const auto& [ij, f] : c.factors)
+			if (ij.second <= j) full.add_factor(f, {fx[ij.first], fx[ij.second]});
+		const Eigen::MatrixXd cov = linearize_dense(full, fx).H.inverse();
+		const int oldest = std::max(0, j - lag);
+		const Eigen::MatrixXd want_new = cov.block(2 * j, 2 * j, 2, 2);
+		const Eigen::MatrixXd want_old = cov.block(2 * oldest, 2 * oldest, 2, 2);
+		worst = std::max(worst, (u.covariance.blocks[0] - want_new).norm() / want_new.norm());
+		worst = std::max(worst, (u.covariance.blocks[1] - want_old).norm() / want_old.norm());
+		while (sm.over_lag()) sm.marginalize_oldest({});
+	}
+	EXPECT_LT(worst, 1e-9);
+}

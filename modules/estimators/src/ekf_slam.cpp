@@ -7,6 +7,7 @@
 #include <mrpt/typemeta/TEnumType.h>
 
 #include <chrono>
+#include <type_traits>
 #include <ctime>
 #include <cmath>
 #include <sstream>
@@ -33,6 +34,57 @@ float* pitch_std(Ekf2D&) { return nullptr; }
 float* odo_z_std(Ekf3D& ekf) { return &ekf.options.std_odo_z_additional; }
 float* odo_z_std(Ekf2D&) { return nullptr; }
 mrpt::poses::CPose3D robot_pose(const Ekf3D& ekf) { return mrpt::poses::CPose3D(ekf.getCurrentRobotPoseMean()); }
+
+/** The robot pose covariance in the tangent convention (quaternion_to_tangent_jacobian). */
+PoseCovariance robot_covariance(const Ekf3D& ekf)
+{
+	mrpt::poses::CPose3DQuatPDFGaussian p;
+	ekf.getCurrentRobotPose(p);
+	const Eigen::Matrix<double, 6, 7> J = quaternion_to_tangent_jacobian(p.mean);
+	const PoseCovariance c = J * p.cov.asEigen() * J.transpose();
+	return 0.5 * (c + c.transpose());
+}
+/** 2D: (x, y, φ) to (ρx, ρy, ωz) = (R(φ)ᵀ Δt, Δφ), embedded at rows (0, 1, 5). */
+PoseCovariance robot_covariance(const Ekf2D& ekf)
+{
+	mrpt::poses::CPosePDFGaussian p;
+	ekf.getCurrentRobotPose(p);
+	Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
+	const double c = std::cos(p.mean.phi()), s = std::sin(p.mean.phi());
+	J.topLeftCorner<2, 2>() << c, s, -s, c;
+	const Eigen::Matrix3d C = J * p.cov.asEigen() * J.transpose();
+	PoseCovariance out = PoseCovariance::Zero();
+	const int at[3] = {0, 1, 5};
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++) out(at[i], at[j]) = 0.5 * (C(i, j) + C(j, i));
+	return out;
+}
+
+/** The filter's map: mean and covariance block of each landmark, by ID. */
+template <class Ekf>
+std::map<std::int32_t, LandmarkEstimate> final_landmarks(const Ekf& ekf)
+{
+	constexpr bool planar = std::is_same_v<Ekf, Ekf2D>;
+	constexpr int robot = planar ? 3 : 7, dim = planar ? 2 : 3;
+	std::conditional_t<planar, mrpt::poses::CPosePDFGaussian, mrpt::poses::CPose3DQuatPDFGaussian> pose;
+	std::vector<std::conditional_t<planar, mrpt::math::TPoint2D, mrpt::math::TPoint3D>> points;
+	std::map<unsigned int, mrpt::maps::CLandmark::TLandmarkID> ids;
+	mrpt::math::CVectorDouble state;
+	mrpt::math::CMatrixDouble cov;
+	ekf.getCurrentState(pose, points, ids, state, cov);
+	std::map<std::int32_t, LandmarkEstimate> out;
+	for (const auto& [index, id] : ids)
+	{
+		LandmarkEstimate& e = out[static_cast<std::int32_t>(id)];
+		const int at = robot + dim * static_cast<int>(index);
+		for (int i = 0; i < dim; i++)
+		{
+			e.position[i] = state[at + i];  // = points[index] (the filter's own copy)
+			for (int j = 0; j < dim; j++) e.covariance(i, j) = 0.5 * (cov(at + i, at + j) + cov(at + j, at + i));
+		}
+	}
+	return out;
+}
 mrpt::poses::CPose3D robot_pose(const Ekf2D& ekf)
 {
 	mrpt::poses::CPosePDFGaussian p;
@@ -180,6 +232,7 @@ void process_steps(Ekf& ekf, const std::vector<io::RawlogStep>& steps, std::size
 		add_time();
 		res.times.push_back(steps[k].time());
 		res.poses.push_back(robot_pose(ekf));
+		res.covariances.push_back(robot_covariance(ekf));
 		res.steps_processed++;
 		if (options.progress) options.progress(k + 1, n);
 	}
@@ -189,6 +242,22 @@ void process_steps(Ekf& ekf, const std::vector<io::RawlogStep>& steps, std::size
 	res.cpu_ms_per_step = res.steps_processed ? 1e3 * cpu_seconds / double(res.steps_processed) : 0.0;
 }
 }  // namespace
+
+Eigen::Matrix<double, 6, 7> quaternion_to_tangent_jacobian(const mrpt::poses::CPose3DQuat& mean)
+{
+	const auto& q = mean.quat();
+	const double w = q.r();
+	const Eigen::Vector3d v(q.x(), q.y(), q.z());
+	Eigen::Matrix3d vx;
+	vx << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+	Eigen::Matrix<double, 6, 7> J = Eigen::Matrix<double, 6, 7>::Zero();
+	mrpt::math::CMatrixDouble33 R;
+	q.rotationMatrixNoResize(R);
+	J.block<3, 3>(0, 0) = R.asEigen().transpose();
+	J.block<3, 1>(3, 3) = -2 * v;
+	J.block<3, 3>(3, 4) = 2 * (w * Eigen::Matrix3d::Identity() - vx);
+	return J;
+}
 
 int ekf_method_from_name(const std::string& name)
 {
@@ -218,6 +287,7 @@ void run_filter(const std::vector<io::RawlogStep>& steps, std::size_t n, const E
 	route_mrpt_log(ekf, options, res);
 	process_steps(ekf, steps, n, options, res);
 	res.landmarks = ekf.getNumberOfLandmarksInTheMap();
+	res.landmarks_final = final_landmarks(ekf);
 }
 }  // namespace
 

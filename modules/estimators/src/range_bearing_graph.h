@@ -147,6 +147,21 @@ class RangeBearingGraph
 	 * but do not enter the fit. */
 	void hold_gauge(const std::map<VariableId, std::vector<double>>& before);
 
+	/** @name Covariances (window_covariance.cpp)
+	 * @{ */
+	/** The covariances of `groups` at the current values (a fresh linearisation, solver options of the
+	 * options). Under the free gauge the system is singular and is held for it: by the initial pose
+	 * while it is in the problem (every covariance relative to it, the frame swba run reports a free
+	 * row in), else by the oldest state and moved to the minimum-norm gauge of the global motions
+	 * (the frame hold_gauge keeps). */
+	CovarianceResult covariances(CovarianceRequest request);
+	/** Block `g` of `r` for pose variable `v` in the SE(3) tangent (planar rows embedded; NaN when
+	 * `r` failed). */
+	PoseCovariance pose_covariance(VariableId v, const CovarianceResult& r, std::size_t g) const;
+	/** Landmarks in the state with the covariance of their world position. */
+	std::map<std::int32_t, LandmarkEstimate> landmark_estimates(double* seconds);
+	/** @} */
+
    private:
 	/** Fixes the model (Spatial or Planar), the gate's and the loss's χ² bounds for its reading_dof,
 	 * and adds the first pose and its gauge. */

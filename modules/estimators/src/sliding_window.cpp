@@ -24,6 +24,8 @@ struct SlidingWindowEstimator::Impl
 {
 	detail::RangeBearingGraph graph;
 	eval::Trajectory online, lagged;
+	std::vector<PoseCovariance> online_cov, lagged_cov;
+	PoseCovariance leaving_cov;  ///< the oldest pose's, from this step's solve (when it leaves)
 	std::vector<StepSummary> summaries;
 	std::optional<mrpt::poses::CPose3D> initial_left;  ///< the initial pose's estimate when it left the window
 	bool finished = false;
@@ -31,6 +33,7 @@ struct SlidingWindowEstimator::Impl
 	explicit Impl(const SlidingWindowOptions& o) : graph(o) {}
 
 	smoother::FixedLagSmoother& smoother() { return graph.smoother(); }
+	const smoother::FixedLagSmoother& smoother() const { return graph.smoother(); }
 	const SlidingWindowOptions& opt() const { return graph.options(); }
 
 	/** One LM solve of the window (prior-only landmarks eliminated as the options say). */
@@ -38,16 +41,38 @@ struct SlidingWindowEstimator::Impl
 	{
 		const auto ts = Clock::now();
 		const auto is_landmark = [&](VariableId v) { return graph.is_landmark(v); };
-		const smoother::UpdateSummary u = smoother().update(is_landmark);
+		const CovarianceRequest request = opt().gauge == GaugeMode::Free ? CovarianceRequest{} : covariance_request();
+		const smoother::UpdateSummary u = smoother().update(is_landmark, request);
 		if (opt().gauge == GaugeMode::Free) graph.hold_gauge(before);
 		sum.prior_only_landmarks = u.prior_only_eliminated;
-		sum.solve_seconds = seconds_since(ts);
+		sum.solve_seconds = seconds_since(ts) - u.covariance.seconds;
 		sum.iterations = u.solver.iterations;
 		sum.termination = u.solver.termination;
 		sum.solver_message = u.solver.message;
 		sum.initial_cost = u.solver.initial_cost;
 		sum.final_cost = u.solver.final_cost;
+		if (opt().covariances)
+			keep_covariances(opt().gauge == GaugeMode::Free ? graph.covariances(covariance_request()) : u.covariance,
+							 sum);
 		if (graph.gate_on_entry()) graph.readmit_held(sum);
+	}
+
+	/** The poses whose covariance a step reports: the newest (online) and, when it is about to leave,
+	 * the oldest (lagged). Empty with covariances off. */
+	CovarianceRequest covariance_request() const
+	{
+		CovarianceRequest r;
+		if (!opt().covariances) return r;
+		r.groups.push_back({smoother().states().back().var});
+		if (smoother().over_lag()) r.groups.push_back({smoother().states().front().var});
+		return r;
+	}
+
+	void keep_covariances(const CovarianceResult& r, StepSummary& sum)
+	{
+		sum.covariance_seconds = r.seconds;
+		online_cov.push_back(graph.pose_covariance(smoother().states().back().var, r, 0));
+		if (smoother().over_lag()) leaving_cov = graph.pose_covariance(smoother().states().front().var, r, 1);
 	}
 
 	/** The landmark policy at the oldest pose (step o) leaving: landmarks anchored there are
@@ -92,6 +117,7 @@ struct SlidingWindowEstimator::Impl
 		sum.down_weighted = graph.count_down_weighted(graph.reading_factors_leaving(o, leaving));
 		graph.expire_readings_at(o);
 		lagged.push_back(oldest.time, graph.pose(oldest.var));
+		if (opt().covariances) lagged_cov.push_back(leaving_cov);
 		if (oldest.var == graph.poses().front().var) initial_left = graph.pose(oldest.var);
 		const smoother::MarginalizationSummary m = smoother().marginalize_oldest(leaving);
 		sum.unevaluable_factors = m.unevaluable_factors;
@@ -132,8 +158,17 @@ struct SlidingWindowEstimator::Impl
 		if (graph.poses().empty()) return;  // no step processed (model still undecided)
 		graph.finish_counts();
 		const VariableId initial = graph.poses().front().var;
+		CovarianceRequest request;
 		for (const auto& s : smoother().states())
-			if (s.var != initial) lagged.push_back(s.time, graph.pose(s.var));
+			if (s.var != initial)
+			{
+				lagged.push_back(s.time, graph.pose(s.var));
+				request.groups.push_back({s.var});
+			}
+		if (!opt().covariances) return;
+		const CovarianceResult r = graph.covariances(request);
+		for (std::size_t g = 0; g < request.groups.size(); g++)
+			lagged_cov.push_back(graph.pose_covariance(request.groups[g][0], r, g));
 	}
 };
 
@@ -171,6 +206,12 @@ mrpt::poses::CPose3D SlidingWindowEstimator::initial_pose() const
 }
 const eval::Trajectory& SlidingWindowEstimator::online_trajectory() const { return impl_->online; }
 const eval::Trajectory& SlidingWindowEstimator::lagged_trajectory() const { return impl_->lagged; }
+const std::vector<PoseCovariance>& SlidingWindowEstimator::online_covariances() const { return impl_->online_cov; }
+const std::vector<PoseCovariance>& SlidingWindowEstimator::lagged_covariances() const { return impl_->lagged_cov; }
+std::map<std::int32_t, LandmarkEstimate> SlidingWindowEstimator::landmark_estimates()
+{
+	return impl_->graph.landmark_estimates(nullptr);
+}
 const std::vector<StepSummary>& SlidingWindowEstimator::step_summaries() const { return impl_->summaries; }
 ReadingCounts SlidingWindowEstimator::reading_counts() const
 {
@@ -179,6 +220,8 @@ ReadingCounts SlidingWindowEstimator::reading_counts() const
 	return c;
 }
 const SlidingWindowOptions& SlidingWindowEstimator::options() const { return impl_->graph.options(); }
+
+const smoother::FixedLagSmoother& SlidingWindowEstimator::smoother() const { return impl_->graph.smoother(); }
 
 const smoother::MarginalPrior& SlidingWindowEstimator::marginal_prior() const
 {
@@ -213,6 +256,22 @@ Eigen::MatrixXd SlidingWindowEstimator::prior_gauge_directions() const
 }
 
 // ----------------------------------------------------------------------------------------------
+namespace
+{
+/** The batch's covariances at its solution: every pose after the initial one, then the landmarks. */
+void batch_covariances(detail::RangeBearingGraph& graph, BatchResult& r)
+{
+	CovarianceRequest request;
+	for (std::size_t k = 1; k < graph.poses().size(); k++) request.groups.push_back({graph.poses()[k].var});
+	const CovarianceResult c = graph.covariances(request);
+	for (std::size_t g = 0; g < request.groups.size(); g++)
+		r.covariances.push_back(graph.pose_covariance(request.groups[g][0], c, g));
+	double landmark_seconds = 0;
+	r.landmarks = graph.landmark_estimates(&landmark_seconds);
+	r.covariance_seconds = c.seconds + landmark_seconds;
+}
+}  // namespace
+
 BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& options, int max_iterations)
 {
 	const auto t0 = Clock::now();
@@ -262,6 +321,7 @@ BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& opti
 	r.initial_pose = graph.pose(graph.poses().front().var);
 	for (std::size_t k = 1; k < graph.poses().size(); k++)
 		r.trajectory.push_back(graph.poses()[k].time, graph.pose(graph.poses()[k].var));
+	if (o.covariances && r.summary.is_solution_usable()) batch_covariances(graph, r);
 	r.seconds = seconds_since(t0);
 	return r;
 }
@@ -271,6 +331,7 @@ eval::Trajectory run_full_history_causal(const io::Rawlog& rawlog, const Sliding
 {
 	SlidingWindowOptions o = options;
 	o.window_size = 0;
+	o.covariances = false;  // the causal row reports none
 	SlidingWindowEstimator est(o);
 	for (const auto& s : rawlog.steps)
 	{

@@ -100,6 +100,8 @@ IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& 
 		number_key<O>(section, "robust_probability", "probability in (0, 1)",
 					  "robust-loss scale: sqrt of the chi-square quantile at this probability (3 DoF in 6D, 2 in 2D)",
 					  &O::robust_probability, parse_probability),
+		{section, "covariances", "bool", "marginal covariances of every reported pose and landmark (.cov files)",
+		 [](const S& v, O& o) { o.covariances = parse_bool(v); }, [](const O& o) { return format_bool(o.covariances); }},
 	};
 }
 }  // namespace swba::estimators

@@ -54,6 +54,11 @@ PlotOutput plot_error_over_time(const std::string& dir, const std::string& basen
 	p.with_points = false;
 	p.series.push_back({e.label, e.stamps, e.errors});
 	p.series.back().line_style = "lw 1 lt 1";  // thin: thousands of poses must not hide the lines drawn over them
+	if (!e.bound.empty() && e.bound.size() == e.stamps.size())
+	{
+		p.series.push_back({e.bound_label, e.stamps, e.bound});
+		p.series.back().line_style = "lc rgb \"#404040\" dt 2 lw 1";
+	}
 	// evo's order and meaning: rmse, median, mean as horizontal lines, the band mean ± std under them.
 	p.references.push_back({"rmse", e.stats.rmse});
 	p.references.push_back({"median", e.stats.median});

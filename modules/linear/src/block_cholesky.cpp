@@ -43,6 +43,11 @@ class DenseBlockCholesky final : public BlockCholesky
 		Eigen::Map<Eigen::VectorXd> v(b, offsets_.back());
 		v = llt_.solve(v);
 	}
+	void solve_columns(double* B, int ncols) const override
+	{
+		Eigen::Map<Eigen::MatrixXd> X(B, offsets_.back(), ncols);
+		llt_.solveInPlace(X);
+	}
 	bool is_sparse() const override { return false; }
 
    private:
@@ -110,6 +115,12 @@ class SparseBlockCholesky final : public BlockCholesky
 		Eigen::Map<Eigen::VectorXd> v(b, offsets_.back());
 		Eigen::VectorXd x = solver_.solve(v);
 		v = x;
+	}
+	void solve_columns(double* B, int ncols) const override
+	{
+		Eigen::Map<Eigen::MatrixXd> M(B, offsets_.back(), ncols);
+		Eigen::MatrixXd X = solver_.solve(M);
+		M = X;
 	}
 	bool is_sparse() const override { return true; }
 

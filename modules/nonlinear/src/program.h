@@ -57,6 +57,7 @@ class Program
 	 * std::invalid_argument. */
 	Program(Problem& problem, bool use_schur, const std::set<VariableId>& keep = {});
 
+	const Problem& problem() const { return problem_; }
 	const std::vector<OrderedVariable>& kept() const { return kept_; }
 	const std::vector<OrderedVariable>& elim() const { return elim_; }
 	int kept_dim() const { return kept_dim_; }

@@ -11,6 +11,8 @@ namespace swba::detail
 {
 namespace
 {
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
 double damped(double d, double lambda, double min_diag, double max_diag)
 {
 	return lambda * std::clamp(d, min_diag, max_diag);
@@ -398,5 +400,51 @@ bool SchurEliminator::solve_damped(double lambda, double min_diag, double max_di
 		for (int l = 0; l < ne; l++) back_substitute<NP, NL>(l, delta.data());
 	});
 	return delta.allFinite();
+}
+
+void SchurEliminator::solve_factorized(Eigen::MatrixXd& X, const std::vector<char>& back) const
+{
+	const auto& kept = program_.kept();
+	const auto& elim = program_.elim();
+	const int kept_dim = program_.kept_dim();
+	Eigen::MatrixXd T, U;
+	// R_p = B_p − Σ_l H_pl H_ll⁻¹ B_l over the eliminated variables with a non-zero B_l.
+	for (int l = 0; l < program_.num_elim(); l++)
+	{
+		const int nl = elim[l].tangent;
+		const auto Bl = X.middleRows(kept_dim + elim[l].offset, nl);
+		if (Bl.isZero(0)) continue;
+		T = Eigen::Map<const RowMatrix>(Hll_inv_.data() + ne_.ll_offset(l), nl, nl) * Bl;
+		for (const int pa : ne_.elim_pl(l))
+		{
+			const auto& pb = ne_.pl_blocks()[pa];
+			const int na = kept[pb.kept].tangent;
+			X.middleRows(kept[pb.kept].offset, na) -= Eigen::Map<const RowMatrix>(ne_.hlp(pa), nl, na).transpose() * T;
+		}
+	}
+	if (kept_dim > 0)
+	{
+		Eigen::MatrixXd P = X.topRows(kept_dim);
+		cholesky_->solve_columns(P.data(), static_cast<int>(P.cols()));
+		X.topRows(kept_dim) = P;
+	}
+	for (int l = 0; l < program_.num_elim(); l++)
+	{
+		const int nl = elim[l].tangent;
+		auto Xl = X.middleRows(kept_dim + elim[l].offset, nl);
+		if (!back.empty() && !back[l])
+		{
+			Xl.setZero();
+			continue;
+		}
+		U = Xl;
+		for (const int pa : ne_.elim_pl(l))
+		{
+			const auto& pb = ne_.pl_blocks()[pa];
+			const int na = kept[pb.kept].tangent;
+			U -= Eigen::Map<const RowMatrix>(ne_.hlp(pa), nl, na) * X.middleRows(kept[pb.kept].offset, na);
+		}
+		Xl = Eigen::Map<const RowMatrix>(Hll_inv_.data() + ne_.ll_offset(l), nl, nl) * U;
+	}
 }
 }  // namespace swba::detail

@@ -32,6 +32,11 @@ class SchurEliminator
 	/** Solves (H + λ D) δ = −g, D = clamp(diag H, min_diag, max_diag); δ over [kept; eliminated].
 	 * False if the damped system is not positive definite (or the solution is not finite). */
 	bool solve_damped(double lambda, double min_diag, double max_diag, Eigen::VectorXd& delta);
+	/** After a successful solve_damped: solves the same system for the right-hand sides X (columns over
+	 * [kept; eliminated]), in place (X_p = S⁻¹ (B_p − Σ_l H_pl H_ll⁻¹ B_l), X_l = H_ll⁻¹ (B_l − H_lp X_p)),
+	 * reusing the factorisation, one pass through the factor for all columns. Only the eliminated
+	 * variables with `back[l]` set are back-substituted (the others are left at zero); `back` empty: all. */
+	void solve_factorized(Eigen::MatrixXd& X, const std::vector<char>& back = {}) const;
 
    private:
 	void build_reduced_pattern();

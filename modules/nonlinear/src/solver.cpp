@@ -8,6 +8,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "covariance_recovery.h"
 #include "solver_context.h"
 
 namespace swba
@@ -289,6 +290,12 @@ void LevenbergMarquardt::record(IterationSummary& it, Clock::time_point t_iter, 
 
 Summary solve(Problem& problem, const SolverOptions& options)
 {
+	return solve(problem, options, CovarianceRequest{}, nullptr);
+}
+
+Summary solve(Problem& problem, const SolverOptions& options, const CovarianceRequest& request,
+			  CovarianceResult* covariance)
+{
 	std::string why;
 	if (!options.is_valid(&why)) throw std::invalid_argument("SolverOptions: " + why);
 	const auto t_start = Clock::now();
@@ -302,6 +309,16 @@ Summary solve(Problem& problem, const SolverOptions& options)
 	summary.reduced_dim = context.program().kept_dim();
 	summary.time_linear_solver_s += seconds_since(t_start);
 	LevenbergMarquardt(context, options, summary, t_start).run();
+	if (covariance)
+	{
+		*covariance = CovarianceResult{};
+		if (request.empty())
+			covariance->ok = true;
+		else if (summary.is_solution_usable())
+			*covariance = detail::recover_covariance(context, request);
+		else
+			covariance->message = "no usable solution";
+	}
 	return summary;
 }
 }  // namespace swba

@@ -53,13 +53,14 @@ void FixedLagSmoother::change_prior_variable(const VariableChange& change)
 	prior_.install(problem_);
 }
 
-UpdateSummary FixedLagSmoother::update(const std::function<bool(VariableId)>& eliminable)
+UpdateSummary FixedLagSmoother::update(const std::function<bool(VariableId)>& eliminable,
+										const CovarianceRequest& covariance)
 {
 	UpdateSummary out;
 	detail::PriorOnlyElimination elimination;
 	const bool reduced = opt_.eliminate_prior_only && prior_.installed() &&
 						 elimination.begin(problem_, prior_, opt_.marginalization_threshold, eliminable);
-	out.solver = swba::solve(problem_, opt_.solver);
+	out.solver = swba::solve(problem_, opt_.solver, covariance, &out.covariance);
 	if (reduced)
 	{
 		out.prior_only_eliminated = elimination.num_eliminated();

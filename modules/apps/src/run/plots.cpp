@@ -160,6 +160,13 @@ void plot_row_errors(const std::string& dir, const RunRow& r, const RowTriage& t
 	e.stamps = r.estimate.stamps;
 	e.errors = r.ape_trans_errors;
 	e.stats = r.ape_trans;
+	if (r.covariance.size() == r.estimate.size())
+	{
+		// √trace of the position covariance is the RMS of the position error's norm if the covariance
+		// is right (the trace is the same in the body and the world frame).
+		for (const auto& c : r.covariance) e.bound.push_back(2 * std::sqrt(c.topLeftCorner<3, 3>().trace()));
+		e.bound_label = "2 sqrt(trace P) (covariance)";
+	}
 	add_plot_files(eval::plot_error_over_time(dir, "ape_" + plot_stem(r), e, po), report);
 }
 

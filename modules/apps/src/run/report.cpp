@@ -1,4 +1,5 @@
 // swba run: the comparison table, ape.txt / ape.csv / summary.json, TUM files and plots.
+#include "covariance_files.h"
 #include "plots.h"
 
 #include <swba/apps/run.h>
@@ -183,6 +184,7 @@ ordered_json row_object(const RunRow& r)
 	e["ape_full"] = r.has_ape ? stats_object(r.ape_full) : ordered_json(nullptr);
 	e["seconds"] = number(r.seconds);
 	e["ms_per_step"] = number(r.ms_per_step);
+	e["covariance_seconds"] = r.covariance_seconds ? number(*r.covariance_seconds) : ordered_json(nullptr);
 	e["steps_processed"] = r.steps;
 	e["readings"] = r.reading_counts ? readings_object(*r.reading_counts) : ordered_json(nullptr);
 	e["failed"] = r.failed;
@@ -224,6 +226,10 @@ void write_run_files(const RunOptions& options, const std::vector<mrpt::poses::C
 		{
 			eval::write_tum(path(r.file), r.estimate);
 			report.files.push_back(path(r.file));
+			if (r.covariance.empty() || r.covariance.size() != r.estimate.size()) continue;
+			const auto [poses, landmarks] = covariance_file_names(r.file);
+			write_text_file(path(poses), format_pose_covariances(r), report);
+			write_text_file(path(landmarks), format_landmark_covariances(r), report);
 		}
 	write_text_file(path("ape.txt"), format_ape_text(report), report);
 	write_text_file(path("ape.csv"), format_ape_csv(report), report);

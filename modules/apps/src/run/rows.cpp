@@ -27,16 +27,44 @@ eval::Trajectory after_steps(const eval::Trajectory& t)
 	return out;
 }
 
+/** The covariances of the poses after_steps(t) keeps (`c` parallel to `t`; empty stays empty). */
+std::vector<estimators::PoseCovariance> after_steps(const eval::Trajectory& t,
+													const std::vector<estimators::PoseCovariance>& c)
+{
+	std::vector<estimators::PoseCovariance> out;
+	if (c.size() != t.size()) return out;
+	for (std::size_t i = 0; i < t.size(); i++)
+		if (t.stamps[i] >= 0.5) out.push_back(c[i]);
+	return out;
+}
+
 /** Under the free gauge nothing holds the initial pose at the origin, so the estimate is in a frame of
  * its own: expressed relative to the estimator's own estimate of the initial pose (T₀⁻¹·T_k), it is
  * in the frame the fixed gauge holds (initial pose = origin) and comparable with the other rows.
- * Other gauges: unchanged. */
+ * Other gauges: unchanged. A pose covariance (right perturbation) is unchanged by that change of
+ * frame; landmark_frame() moves the landmarks with it. */
 eval::Trajectory in_gauge_frame(eval::Trajectory t, const estimators::SlidingWindowOptions& o,
 								const mrpt::poses::CPose3D& initial)
 {
 	if (o.gauge != GaugeMode::Free) return t;
 	for (auto& p : t.poses) p = p - initial;
 	return t;
+}
+
+/** The landmarks in the frame of in_gauge_frame: p ← R₀ᵀ(p − t₀), Σ ← R₀ᵀ Σ R₀ under the free gauge. */
+std::map<std::int32_t, estimators::LandmarkEstimate> landmark_frame(std::map<std::int32_t, estimators::LandmarkEstimate> l,
+																	const estimators::SlidingWindowOptions& o,
+																	const mrpt::poses::CPose3D& initial)
+{
+	if (o.gauge != GaugeMode::Free) return l;
+	const Eigen::Matrix3d Rt = initial.getRotationMatrix().asEigen().transpose();
+	const Eigen::Vector3d t(initial.x(), initial.y(), initial.z());
+	for (auto& [id, e] : l)
+	{
+		e.position = Rt * (e.position - t);
+		e.covariance = Rt * e.covariance * Rt.transpose();
+	}
+	return l;
 }
 
 std::string fej_name(bool fej) { return fej ? "fej" : "nofej"; }
@@ -70,10 +98,10 @@ void log_step_summary(std::ostream& log, const std::string& label, const estimat
 	char buf[320];
 	std::snprintf(buf, sizeof(buf),
 				  "%s step %zu: LM %d it, cost %.6g -> %.6g, %s (%s); %d poses, %d landmarks, prior rank %d; "
-				  "solve %.2f ms, marginalisation %.2f ms, step %.2f ms\n",
+				  "solve %.2f ms, marginalisation %.2f ms, covariance %.2f ms, step %.2f ms\n",
 				  label.c_str(), s.step, s.iterations, s.initial_cost, s.final_cost, to_string(s.termination),
 				  s.solver_message.c_str(), s.window_poses, s.landmarks, s.prior_rank, s.solve_seconds * 1e3,
-				  s.marginalization_seconds * 1e3, seconds * 1e3);
+				  s.marginalization_seconds * 1e3, s.covariance_seconds * 1e3, seconds * 1e3);
 	log << buf << std::flush;
 }
 
@@ -151,6 +179,8 @@ RunRow run_ekf_row(const RowContext& ctx, const std::string& method, std::vector
 	}
 	progress.finish();
 	for (std::size_t i = 0; i < res.poses.size(); i++) row.estimate.push_back(res.times[i], res.poses[i]);
+	row.covariance = res.covariances;
+	row.landmarks = res.landmarks_final;
 	row.seconds = res.seconds;
 	row.steps = res.steps_processed;
 	row.ms_per_step = res.ms_per_step;
@@ -221,6 +251,17 @@ std::pair<RunRow, RunRow> run_window_rows(const RowContext& ctx, const estimator
 		online.reading_counts = lagged.reading_counts = est.reading_counts();
 		online.estimate = after_steps(in_gauge_frame(est.online_trajectory(), wo, est.initial_pose()));
 		lagged.estimate = after_steps(in_gauge_frame(est.lagged_trajectory(), wo, est.initial_pose()));
+		if (wo.covariances)
+		{
+			online.covariance = after_steps(est.online_trajectory(), est.online_covariances());
+			lagged.covariance = after_steps(est.lagged_trajectory(), est.lagged_covariances());
+			const auto t1 = Clock::now();
+			online.landmarks = lagged.landmarks = landmark_frame(est.landmark_estimates(), wo, est.initial_pose());
+			double cov_seconds = seconds_since(t1);
+			for (const auto& s : est.step_summaries()) cov_seconds += s.covariance_seconds;
+			total += seconds_since(t1);
+			online.covariance_seconds = lagged.covariance_seconds = cov_seconds;
+		}
 	}
 	catch (const std::exception& e)
 	{
@@ -296,6 +337,12 @@ RunRow run_batch_row(const RowContext& ctx, const estimators::SlidingWindowOptio
 							   estimators::BatchResult b =
 								   estimators::run_batch(ctx.rawlog, unbounded, ctx.options.batch_max_iterations);
 							   row.estimate = after_steps(in_gauge_frame(b.trajectory, unbounded, b.initial_pose));
+							   if (unbounded.covariances)
+							   {
+								   row.covariance = after_steps(b.trajectory, b.covariances);
+								   row.landmarks = landmark_frame(b.landmarks, unbounded, b.initial_pose);
+								   row.covariance_seconds = b.covariance_seconds;
+							   }
 							   row.mean_iterations = b.summary.iterations;
 							   row.reading_counts = b.counts;
 							   if (ctx.options.verbose)

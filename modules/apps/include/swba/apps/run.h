@@ -20,7 +20,9 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
+#include <map>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -40,6 +42,15 @@ struct RunRow
 	std::string method;      ///< EKF rows: MRPT's method name
 	std::string file;        ///< TUM file name inside the output directory ("" = not written)
 	eval::Trajectory estimate;  ///< t = k + 1 for the pose after step k
+	/** The marginal covariance of each pose of `estimate` (same order; doc/formats.md, "Covariance
+	 * files"), as the estimator had it for that pose: EKF and window online after its step, lagged when
+	 * it left the window, batch at the solution. Empty: none (causal rows, covariances off). */
+	std::vector<estimators::PoseCovariance> covariance;
+	/** The final landmark estimates with their covariance (in the frame of `estimate`); with `covariance`. */
+	std::map<std::int32_t, estimators::LandmarkEstimate> landmarks;
+	/** Seconds spent recovering the covariances (window: all steps and the final landmarks; batch: at
+	 * the solution; null for the EKF, whose covariance is its state, and rows without). */
+	std::optional<double> covariance_seconds;
 
 	bool has_ape = false;    ///< false without ground truth or when the estimator failed
 	eval::Statistics ape_trans, ape_full;  ///< APE translation part (m), full transformation (unit-less)

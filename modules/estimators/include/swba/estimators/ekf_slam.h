@@ -10,6 +10,9 @@
 #include <swba/io/rawlog.h>
 
 #include <mrpt/poses/CPose3D.h>
+#include <mrpt/poses/CPose3DQuat.h>
+
+#include <map>
 
 #include <cstddef>
 #include <functional>
@@ -57,6 +60,12 @@ struct EkfSlamResult
 	/** times[i] = k + 1 and poses[i] = robot pose mean after step k, for every processed step. */
 	std::vector<double> times;
 	std::vector<mrpt::poses::CPose3D> poses;
+	/** covariances[i]: the robot pose covariance after step k (MRPT's, 7×7 over (x, y, z, qr, qx, qy, qz)
+	 * or 3×3 over (x, y, φ) in 2D) in the window's tangent convention (PoseCovariance) through
+	 * quaternion_to_tangent_jacobian / the SE(2) one. */
+	std::vector<PoseCovariance> covariances;
+	/** The map at the end: each landmark's mean and covariance (the filter's 3×3 / 2×2 block), by ID. */
+	std::map<std::int32_t, LandmarkEstimate> landmarks_final;
 	std::size_t steps_total = 0;  ///< steps given (after max_steps)
 	std::size_t steps_processed = 0;  ///< steps that completed
 	double seconds = 0;	 ///< wall time inside processActionObservation (all processed steps)
@@ -78,6 +87,12 @@ struct EkfSlamResult
 	std::size_t mrpt_warnings = 0;
 	std::string first_mrpt_warning;
 };
+
+/** ∂δ/∂(t, q) at `mean`: the Jacobian from MRPT's quaternion pose parameters (x, y, z, qr, qx, qy, qz)
+ * to the right perturbation δ = [ρ, ω] of T = T̂·Exp(δ): ρ = R̂ᵀ(t − t̂) and ω = Log(R̂ᵀR(q)) ≈
+ * 2·vec(q̂* ⊗ q), so ∂ρ/∂t = R̂ᵀ and ∂ω/∂q = 2 [−v̂ | ŵ I − [v̂]×] with q̂ = (ŵ, v̂). Its rows are
+ * orthogonal to the quaternion's norm direction (∂ω/∂q · q̂ = 0): a covariance along it is ignored. */
+Eigen::Matrix<double, 6, 7> quaternion_to_tangent_jacobian(const mrpt::poses::CPose3DQuat& mean);
 
 /** Parses a method name ("kfEKFNaive", …, or the number 0..3); throws std::invalid_argument listing
  * the valid names otherwise. */

@@ -7,6 +7,7 @@
 #include <swba/core/names.h>
 #include <swba/io/rawlog.h>
 
+#include <Eigen/Core>
 #include <array>
 #include <vector>
 
@@ -28,6 +29,21 @@ constexpr std::array<EnumName<PoseModel>, 3> enum_names(PoseModel)
 /** Rows of a bearing-range reading, the degrees of freedom of its χ² tests: 2 in the planar model
  * (range, yaw), else 3 (range, yaw, pitch). */
 constexpr int reading_dof(PoseModel model) { return model == PoseModel::Planar ? 2 : 3; }
+
+/** Marginal covariance of a pose in the solver's tangent convention: right perturbation
+ * T = T̂·Exp(δ), δ = [ρ, ω] (t ← t + R ρ, R ← R Exp(ω)), as SE3Manifold. A planar pose's 3×3 over
+ * (ρx, ρy, ωz) sits at rows and columns (0, 1, 5), the other entries zero. NaN where it could not
+ * be computed (doc/formats.md, "Covariance files"). */
+using PoseCovariance = Eigen::Matrix<double, 6, 6>;
+
+/** A landmark's final estimate: world position and its marginal covariance (planar: the 2×2 of
+ * (x, y), z row and column zero). */
+struct LandmarkEstimate
+{
+	Eigen::Vector3d position = Eigen::Vector3d::Zero();
+	Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+};
+
 
 /** `model`, with Auto resolved on `steps` (Planar when io::is_planar(steps)). */
 PoseModel resolve_pose_model(PoseModel model, const std::vector<io::RawlogStep>& steps);

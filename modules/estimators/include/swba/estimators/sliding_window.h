@@ -24,6 +24,7 @@
 #include <swba/estimators/sensor_noise.h>
 #include <swba/nonlinear/gauge.h>
 #include <swba/nonlinear/solver.h>
+#include <swba/smoother/fixed_lag_smoother.h>
 #include <swba/smoother/marginal_prior.h>
 
 #include <array>
@@ -127,6 +128,10 @@ struct SlidingWindowOptions
 	 * the radius that holds this share of correct readings (residuals beyond it are down-weighted), in
 	 * (0, 1). Default 0.95. */
 	double robust_probability = 0.95;
+	/** Recover marginal covariances: the window each step (the newest pose after its solve, the oldest
+	 * when it leaves), the batch at its solution, both for the final landmarks. Cost and gauge:
+	 * doc/window.md, "Covariances". Default true. */
+	bool covariances = true;
 
 	/** The χ² bound of the gate for readings of `dof` rows (reading_dof of the model). */
 	double gate_threshold(int dof) const;
@@ -141,7 +146,7 @@ struct SlidingWindowOptions
 	/** The INI keys of the window's own options in `section`: landmarks, model, gauge, gauge_prior_weight,
 	 * marginalization_threshold. The members solver, sensor and odometry have their own keys
 	 * (SolverOptions::ini_keys etc.); window_size, policy and FEJ are chosen per run by the application.
-	 * Also the outlier keys: gate, gate_probability, robust_loss, robust_probability. */
+	 * Also the outlier keys: gate, gate_probability, robust_loss, robust_probability; and covariances. */
 	static IniKeys<SlidingWindowOptions> ini_keys(const std::string& section);
 };
 
@@ -158,6 +163,7 @@ struct StepSummary
 	double seconds = 0;             ///< whole process() call
 	double solve_seconds = 0;       ///< LM solve
 	double marginalization_seconds = 0;
+	double covariance_seconds = 0;  ///< covariance recovery (part of `seconds`, not of solve_seconds)
 	int window_poses = 0;
 	int landmarks = 0;              ///< landmark variables in the state
 	int prior_rank = 0;             ///< rows of the marginal prior (0: none)
@@ -226,10 +232,22 @@ class SlidingWindowEstimator
 	const eval::Trajectory& online_trajectory() const;
 	/** Each pose as estimated when it left the window (complete after finish()). */
 	const eval::Trajectory& lagged_trajectory() const;
+	/** The marginal covariance of each pose of online_trajectory() / lagged_trajectory() (same order) as
+	 * the window had it at that moment: right after the step's solve / when the pose left (the window
+	 * poses flushed by finish(): at the final state). Empty with options().covariances off. */
+	const std::vector<PoseCovariance>& online_covariances() const;
+	const std::vector<PoseCovariance>& lagged_covariances() const;
+	/** The landmarks in the state with their marginal covariance at the current estimate (one
+	 * factorisation of the window's whole system, prior-only landmarks included). */
+	std::map<std::int32_t, LandmarkEstimate> landmark_estimates();
 	const std::vector<StepSummary>& step_summaries() const;
 	/** Totals over the steps so far (readings still held in the window count as excluded after finish()). */
 	ReadingCounts reading_counts() const;
 	const SlidingWindowOptions& options() const;
+
+	/** The fixed-lag smoother underneath: the window's factor graph (factors, values, first
+	 * estimates), its states and its marginal prior, as the next solve will see them. */
+	const smoother::FixedLagSmoother& smoother() const;
 
 	/** Consistency diagnostics of the marginal prior (empty matrices while there is none). */
 	/** The marginal prior as stored: its square-root form (J, e, x_lin) and its information (H, b). */
@@ -267,6 +285,11 @@ struct BatchResult
 	ReadingCounts counts;
 	mrpt::poses::CPose3D initial_pose;  ///< the initial pose's estimate (t = 0, not in `trajectory`)
 	double seconds = 0;
+	/** options.covariances: per pose of `trajectory`, its marginal covariance at the solution, and the
+	 * landmarks with theirs (one factorisation of the full problem, Schur on the landmarks). */
+	std::vector<PoseCovariance> covariances;
+	std::map<std::int32_t, LandmarkEstimate> landmarks;
+	double covariance_seconds = 0;  ///< included in `seconds`
 };
 
 /** The same factors over the whole rawlog in one problem (window = ∞), initialised by dead

@@ -31,6 +31,9 @@ class BlockCholesky
 	virtual bool factorize(const std::vector<const double*>& blocks) = 0;
 	/** Solves A x = b in place (after a successful factorize). */
 	virtual void solve(double* b_inout) const = 0;
+	/** Solves A X = B in place for `ncols` right-hand sides stored column after column (column-major,
+	 * dim() rows): one pass through the factor for all of them (CHOLMOD's supernodal solve of a block). */
+	virtual void solve_columns(double* B_inout, int ncols) const = 0;
 	virtual bool is_sparse() const = 0;
 
 	/** Dense LLT of the assembled matrix. */

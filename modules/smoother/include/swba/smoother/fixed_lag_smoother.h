@@ -23,6 +23,7 @@
 #pragma once
 
 #include <swba/factors/first_estimate.h>
+#include <swba/nonlinear/covariance.h>
 #include <swba/nonlinear/problem.h>
 #include <swba/nonlinear/solver.h>
 #include <swba/smoother/marginal_prior.h>
@@ -63,6 +64,8 @@ struct UpdateSummary
 {
 	Summary solver;
 	int prior_only_eliminated = 0;  ///< variables held out of the solve (eliminate_prior_only)
+	/** The covariances update() was asked for, at its solution (ok with no blocks when none were). */
+	CovarianceResult covariance;
 };
 
 /** What marginalize_oldest() did. */
@@ -113,8 +116,11 @@ class FixedLagSmoother
 	void change_prior_variable(const VariableChange& change);
 
 	/** One LM solve of the window with options().solver; with eliminate_prior_only, the variables that
-	 * satisfy `eliminable` and have no factor but the prior are eliminated from it exactly. */
-	UpdateSummary update(const std::function<bool(VariableId)>& eliminable);
+	 * satisfy `eliminable` and have no factor but the prior are eliminated from it exactly. The
+	 * covariances of `covariance` are recovered from the solve's last linearisation (the prior-only
+	 * variables eliminated: their elimination leaves the exact marginal of the others; they themselves
+	 * are constant in that solve and get zero). */
+	UpdateSummary update(const std::function<bool(VariableId)>& eliminable, const CovarianceRequest& covariance = {});
 	/** One LM solve of the whole problem with `options` (no elimination): the batch run. */
 	Summary solve(const SolverOptions& options);
 

@@ -1,0 +1,222 @@
+// Marginal covariances from the solver's factorisation: the undamped Schur system factorised once,
+// then one solve per tangent coordinate of a requested variable (covariance.h).
+#include <swba/nonlinear/covariance.h>
+
+#include "covariance_recovery.h"
+#include "solver_context.h"
+
+#include <Eigen/Dense>
+#include <chrono>
+#include <stdexcept>
+
+namespace swba
+{
+namespace detail
+{
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+/** Where a variable sits in the solver's [kept; eliminated] vector. */
+struct Slot
+{
+	int offset = -1;  ///< −1: constant (or not in the problem's ordering)
+	int tangent = 0;
+	int elim = -1;    ///< index among the eliminated variables, or −1
+};
+
+class Recovery
+{
+   public:
+	Recovery(SolverContext& ctx, const CovarianceRequest& request) : ctx_(ctx), request_(request)
+	{
+		const Program& p = ctx.program();
+		dim_ = p.kept_dim() + p.elim_dim();
+		for (const auto& v : p.kept()) slots_[v.id] = {v.offset, v.tangent, -1};
+		for (int l = 0; l < p.num_elim(); l++)
+			slots_[p.elim()[l].id] = {p.kept_dim() + p.elim()[l].offset, p.elim()[l].tangent, l};
+	}
+
+	CovarianceResult run()
+	{
+		CovarianceResult out;
+		Eigen::VectorXd unused;
+		if (!ctx_.eliminator().solve_damped(0.0, 0.0, 0.0, unused))
+		{
+			out.message = "the normal equations are not positive definite (a free gauge or an unobserved variable)";
+			return out;
+		}
+		if (!request_.gauge.empty()) gauge_solves(out);
+		std::vector<Group> groups;
+		for (const auto& g : request_.groups) groups.push_back(layout(g));
+		// Solve the columns of several groups at once (one pass through the factor per chunk).
+		std::size_t first = 0;
+		int columns = 0;
+		for (std::size_t g = 0; g < groups.size(); g++)
+		{
+			columns += groups[g].free_columns;
+			if (columns >= kColumnsPerChunk || g + 1 == groups.size())
+			{
+				solve_chunk(groups, first, g + 1, columns, out);
+				first = g + 1;
+				columns = 0;
+			}
+		}
+		for (std::size_t g = 0; g < groups.size(); g++)
+		{
+			project_to_gauge(groups[g]);
+			out.blocks.push_back(0.5 * (groups[g].S + groups[g].S.transpose()));
+		}
+		out.ok = true;
+		for (const auto& b : out.blocks) out.ok = out.ok && b.allFinite();
+		if (!out.ok) out.message = "a covariance is not finite";
+		return out;
+	}
+
+   private:
+	/** Right-hand sides solved together: enough to amortise a pass through a sparse factor, few enough
+	 * to keep the block of solutions small. */
+	static constexpr int kColumnsPerChunk = 64;
+
+	/** A requested group: its variables' slots, their offsets in the block, the block. */
+	struct Group
+	{
+		std::vector<VariableId> vars;
+		std::vector<Slot> slots;
+		std::vector<int> at;
+		int free_columns = 0;  ///< tangent coordinates of its non-constant variables
+		Eigen::MatrixXd S;
+	};
+
+	Slot slot(VariableId v) const
+	{
+		auto it = slots_.find(v);
+		if (it != slots_.end()) return it->second;
+		Slot s;
+		s.tangent = ctx_.program().problem().variable(v).manifold->tangent_size();
+		return s;
+	}
+
+	Group layout(const std::vector<VariableId>& vars) const
+	{
+		Group g;
+		g.vars = vars;
+		int m = 0;
+		for (VariableId v : vars)
+		{
+			g.slots.push_back(slot(v));
+			g.at.push_back(m);
+			m += g.slots.back().tangent;
+			if (g.slots.back().offset >= 0) g.free_columns += g.slots.back().tangent;
+		}
+		g.S = Eigen::MatrixXd::Zero(m, m);
+		return g;
+	}
+
+	/** Solves the unit columns of the non-constant variables of groups [first, last) and fills their
+	 * blocks: column j of Σ restricted to each group's rows. */
+	void solve_chunk(std::vector<Group>& groups, std::size_t first, std::size_t last, int columns,
+					 CovarianceResult& out)
+	{
+		if (columns == 0) return;
+		Eigen::MatrixXd X = Eigen::MatrixXd::Zero(dim_, columns);
+		std::vector<char> back(static_cast<std::size_t>(ctx_.program().num_elim()), 0);
+		int c = 0;
+		for (std::size_t g = first; g < last; g++)
+			for (const Slot& s : groups[g].slots)
+			{
+				if (s.elim >= 0) back[static_cast<std::size_t>(s.elim)] = 1;
+				if (s.offset < 0) continue;
+				for (int j = 0; j < s.tangent; j++) X(s.offset + j, c++) = 1.0;
+			}
+		ctx_.eliminator().solve_factorized(X, back);
+		out.solves += columns;
+		c = 0;
+		for (std::size_t g = first; g < last; g++)
+		{
+			Group& G = groups[g];
+			for (std::size_t i = 0; i < G.slots.size(); i++)
+			{
+				if (G.slots[i].offset < 0) continue;
+				for (int j = 0; j < G.slots[i].tangent; j++, c++)
+					for (std::size_t r = 0; r < G.slots.size(); r++)
+						if (G.slots[r].offset >= 0)
+							G.S.block(G.at[r], G.at[i] + j, G.slots[r].tangent, 1) =
+								X.block(G.slots[r].offset, c, G.slots[r].tangent, 1);
+			}
+		}
+	}
+
+	/** G = Σ N (over the whole vector) and the k × k matrices M = (NᵀN)⁺, NᵀG. */
+	void gauge_solves(CovarianceResult& out)
+	{
+		int k = 0;
+		for (const auto& [v, B] : request_.gauge) k = std::max(k, static_cast<int>(B.cols()));
+		N_.setZero(dim_, k);
+		Eigen::MatrixXd NtN = Eigen::MatrixXd::Zero(k, k);
+		for (const auto& [v, B] : request_.gauge)
+		{
+			NtN += B.transpose() * B;  // constant variables count too: their displacement is zero
+			auto it = slots_.find(v);
+			if (it != slots_.end()) N_.middleRows(it->second.offset, B.rows()) = B;
+		}
+		// Pseudo-inverse: a planar model's off-plane motions are zero columns.
+		M_ = NtN.completeOrthogonalDecomposition().pseudoInverse();
+		G_ = N_;
+		ctx_.eliminator().solve_factorized(G_);
+		out.solves += k;
+		NtG_ = N_.transpose() * G_;
+	}
+
+	/** Q Σ Qᵀ restricted to the group, Q = I − N M Nᵀ: Σ − N M Gᵀ − G M Nᵀ + N M (NᵀG) M Nᵀ. A constant
+	 * variable has Σ = 0 and G = 0 rows: only the last term moves it. Nothing without gauge directions. */
+	void project_to_gauge(Group& g) const
+	{
+		if (N_.cols() == 0) return;
+		Eigen::MatrixXd Ng = Eigen::MatrixXd::Zero(g.S.rows(), N_.cols()), Gg = Ng;
+		for (std::size_t i = 0; i < g.slots.size(); i++)
+		{
+			const int t = g.slots[i].tangent;
+			if (g.slots[i].offset >= 0)
+			{
+				Ng.middleRows(g.at[i], t) = N_.middleRows(g.slots[i].offset, t);
+				Gg.middleRows(g.at[i], t) = G_.middleRows(g.slots[i].offset, t);
+			}
+			else if (auto it = request_.gauge.find(g.vars[i]); it != request_.gauge.end())
+				Ng.middleRows(g.at[i], t) = it->second;  // a held variable: moved by the gauge like the others
+		}
+		const Eigen::MatrixXd NM = Ng * M_;
+		g.S += -NM * Gg.transpose() - Gg * NM.transpose() + NM * NtG_ * NM.transpose();
+	}
+
+	SolverContext& ctx_;
+	const CovarianceRequest& request_;
+	std::map<VariableId, Slot> slots_;
+	int dim_ = 0;
+	Eigen::MatrixXd N_, G_, M_, NtG_;
+};
+}  // namespace
+
+CovarianceResult recover_covariance(SolverContext& context, const CovarianceRequest& request)
+{
+	const auto t0 = Clock::now();
+	CovarianceResult out = Recovery(context, request).run();
+	out.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+	return out;
+}
+}  // namespace detail
+
+CovarianceResult marginal_covariance(Problem& problem, const CovarianceRequest& request, const SolverOptions& options)
+{
+	std::string why;
+	if (!options.is_valid(&why)) throw std::invalid_argument("SolverOptions: " + why);
+	const auto t0 = std::chrono::steady_clock::now();
+	detail::SolverContext context(problem, options);
+	int dropped = 0;
+	context.evaluator().linearize(&dropped);
+	context.equations().assemble();
+	CovarianceResult out = detail::recover_covariance(context, request);
+	out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	return out;
+}
+}  // namespace swba
