@@ -130,8 +130,8 @@ TEST(PlanSweep, NeesJobsSimulateTheirOwnRawlog)
 	ASSERT_EQ(plan.jobs.size(), 3u);
 	EXPECT_EQ(plan.jobs[2].command,
 			  "swba simulate " + o.ini + " --seed 9 --name kf-slam_6D_noisy_seed9 --out "
-			  "/tmp/nees_plan/jobs/kf-slam_6D_noisy_seed9/all/rawlog && swba run "
-			  "/tmp/nees_plan/jobs/kf-slam_6D_noisy_seed9/all/rawlog/kf-slam_6D_noisy_seed9.rawlog --config "
+			  "/tmp/nees_plan/jobs/kf-slam_6D_noisy_seed9/rawlog && swba run "
+			  "/tmp/nees_plan/jobs/kf-slam_6D_noisy_seed9/rawlog/kf-slam_6D_noisy_seed9.rawlog --config "
 			  "/tmp/nees_plan/config.ini --out /tmp/nees_plan/jobs/kf-slam_6D_noisy_seed9/all");
 }
 

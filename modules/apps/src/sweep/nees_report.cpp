@@ -92,7 +92,8 @@ void plot_quantity(const std::string& dir, const NeesReport& report, bool positi
 	// The band of the first estimator (every estimator has the same runs and dof unless one failed).
 	const auto& first = position ? report.estimators.front().average.position : report.estimators.front().average.pose;
 	if (band_text(first) != "varies" && !first.band.empty())
-		p.bands.push_back({"95% band (" + std::to_string(report.estimators.front().average.runs.front()) + " runs)",
+		p.bands.push_back({"95% band (" + std::to_string(report.estimators.front().average.runs.front()) + " runs, " +
+							   dof_text(first, report.estimators.front().average.runs) + " dof)",
 						   first.band.front().low, first.band.front().high});
 	else
 	{

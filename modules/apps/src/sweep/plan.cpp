@@ -65,7 +65,10 @@ std::string run_command(const SweepPlan& plan, const std::string& swba, const Sw
 	std::string rawlog = g.rawlog;
 	if (!plan.simulate_ini.empty())
 	{
-		const std::string sim_dir = out + "/rawlog";
+		// One directory per rawlog, shared by its jobs: each job simulates (so it can run alone), and
+		// simulate_rawlog replaces the files atomically with the same data, so a job reading them is
+		// never disturbed, and every job of the rawlog names the same files (the merge checks that).
+		const std::string sim_dir = plan.dir + "/jobs/" + g.name + "/rawlog";
 		cmd = shell_quote(swba) + " simulate " + shell_quote(plan.simulate_ini) + " --seed " + std::to_string(g.seed) +
 			  " --name " + shell_quote(g.name) + " --out " + shell_quote(sim_dir) + " && ";
 		rawlog = sim_dir + "/" + g.name + ".rawlog";

@@ -108,7 +108,9 @@ SimulatedRawlog simulate_rawlog(const SimulateOptions& o, std::ostream& log)
 	fs::remove_all(work, ec);
 	fs::create_directories(work, ec);
 	if (ec) throw std::runtime_error("cannot create '" + work.string() + "': " + ec.message());
-	const int status = run_in(o.program, out.ini, work.string(), out.log);
+	const fs::path log_file = work / "simul-landmarks.log";
+	const int status = run_in(o.program, out.ini, work.string(), log_file.string());
+	fs::rename(log_file, out.log, ec);
 	const fs::path rawlog = work / (name + ".rawlog");
 	const fs::path path = work / (name + ".rawlog_ground_truth_robot_path.txt");
 	const fs::path landmarks = work / (name + ".rawlog_ground_truth.txt");
