@@ -157,6 +157,7 @@ SweepPlan plan_sweep(const SweepOptions& o)
 	plan.kind = o.kind;
 	plan.dir = absolute(o.dir);
 	plan.windows = o.run.windows;
+	plan.threads = o.run.window.solver.num_threads;
 	if (!o.simulate_ini.empty())
 	{
 		check_input_file(o.simulate_ini, "simul-landmarks INI");
@@ -225,7 +226,7 @@ std::string format_sbatch_script(const SweepPlan& plan)
 	  << "#SBATCH --job-name=swba-" << (plan.kind == SweepKind::Nees ? "nees" : "sweep") << "\n"
 	  << "#SBATCH --array=1-" << plan.jobs.size() << "\n"
 	  << "#SBATCH --ntasks=1\n"
-	  << "#SBATCH --cpus-per-task=1\n"
+	  << "#SBATCH --cpus-per-task=" << plan.threads << "\n"
 	  << "#SBATCH --output=" << plan.dir << "/slurm-%A_%a.out\n"
 	  << "set -euo pipefail\n"
 	  << "jobs=" << shell_quote(jobs) << "\n"
@@ -243,6 +244,7 @@ std::string format_sweep_manifest(const SweepPlan& plan)
 	j["kind"] = enum_name(plan.kind);
 	j["simulate_ini"] = plan.simulate_ini.empty() ? ordered_json(nullptr) : ordered_json(plan.simulate_ini);
 	j["windows"] = plan.windows;
+	j["threads"] = plan.threads;
 	j["groups"] = ordered_json::array();
 	for (const auto& g : plan.groups)
 	{
@@ -301,6 +303,7 @@ SweepPlan read_sweep_manifest(const std::string& dir)
 		plan.kind = parse_enum<SweepKind>(j.at("kind").get<std::string>(), "sweep kind");
 		if (!j.at("simulate_ini").is_null()) plan.simulate_ini = j.at("simulate_ini").get<std::string>();
 		plan.windows = j.at("windows").get<std::vector<int>>();
+		plan.threads = j.value("threads", 1);
 		std::map<std::string, std::size_t> group_of;
 		for (const auto& e : j.at("groups"))
 		{

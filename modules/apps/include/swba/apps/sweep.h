@@ -5,7 +5,7 @@
  * the tables and plots one sequential `swba run` writes, with the same figures (doc/sweeps.md).
  *
  * Why the figures are the same: the estimators of a run are independent (each reads the rawlog and its
- * options only, single-threaded solves are deterministic), so `swba run --windows 10` computes the
+ * options only, and with one solver thread, the default, every solve is deterministic), so `swba run --windows 10` computes the
  * W = 10 rows exactly as `swba run --windows 5,10` does; the merge reads them back from summary.json,
  * whose numbers round-trip exactly (nlohmann-json writes the shortest text that reads back as the same
  * double). Only the wall times (seconds, ms/step) are each job's own.
@@ -89,6 +89,7 @@ struct SweepPlan
 	std::string dir;		   ///< absolute
 	std::string simulate_ini;  ///< absolute, "" = real rawlogs
 	std::vector<int> windows;
+	int threads = 1;		   ///< solver threads of each job (Slurm's --cpus-per-task)
 	std::vector<SweepGroup> groups;
 	std::vector<SweepJob> jobs;
 };
