@@ -35,14 +35,22 @@ std::string read(const fs::path& p)
 	return s.str();
 }
 
-/** A job's summary.json with one window row whose TUM file is window_5.tum. */
-std::string summary_json(const std::string& gt)
+/** One "estimators" entry of a window row. */
+std::string window_row(const std::string& label, const std::string& trajectory, const std::string& file)
 {
-	return R"({"rawlog": "sim.rawlog", "ground_truth": ")" + gt + R"(", "steps": 2, "landmarks": 1, "estimators": [
-  {"name": "window", "label": "window W=5", "window": 5, "trajectory": "online", "policy": "slam", "fej": true,
-   "method": null, "file": "window_5.tum", "poses": 2, "ape_trans": null, "ape_full": null, "seconds": 0.1,
-   "ms_per_step": 1, "steps_processed": 2, "readings": null, "failed": false, "failed_step": null,
-   "failure": null, "interrupted": false}]})";
+	return R"({"name": "window", "label": ")" + label + R"(", "window": 5, "trajectory": ")" + trajectory +
+		   R"(", "policy": "slam", "fej": true, "method": null, "file": ")" + file +
+		   R"(", "poses": 2, "ape_trans": null, "ape_full": null, "seconds": 0.1, "ms_per_step": 1,
+   "steps_processed": 2, "readings": null, "failed": false, "failed_step": null, "failure": null, "interrupted": false})";
+}
+
+/** A job's summary.json with the window's online and lagged rows (window_5.tum, window_5_lagged.tum);
+ * `lagged` false: as a job killed before the end leaves it. */
+std::string summary_json(const std::string& gt, bool lagged = true)
+{
+	return R"({"rawlog": "sim.rawlog", "ground_truth": ")" + gt + R"(", "steps": 2, "landmarks": 1, "estimators": [)" +
+		   window_row("window W=5", "online", "window_5.tum") +
+		   (lagged ? ", " + window_row("window W=5 lagged", "lagged", "window_5_lagged.tum") : "") + "]}";
 }
 
 /** Diagonal covariance row: position σ² (px, 1, 1), pose σ² (p0, 1, 1, 1, 1, 1). */
@@ -147,6 +155,10 @@ TEST(MergeNees, HandMadeSweep)
 	plan.kind = SweepKind::Nees;
 	plan.dir = d.string();
 	plan.simulate_ini = "/x/sim.ini";
+	RunOptions config;  // what each job ran: W = 5, no EKF, no batch: 2 rows
+	config.windows = {5};
+	config.run_ekf = config.run_batch = false;
+	write(d / "config.ini", format_run_config(config));
 	for (int k = 0; k < 2; k++)
 	{
 		SweepGroup g;
@@ -163,13 +175,16 @@ TEST(MergeNees, HandMadeSweep)
 		write(jd / "summary.json", summary_json(gt.string()));
 		write(jd / "window_5.tum", std::string(k == 0 ? "1 0 0 0 0 0 0 1\n" : "1 1 0 0 0 0 0 1\n") + "2 2 0 0 0 0 0 1\n");
 		write(jd / "window_5.cov", cov_row(1, 0.5, 0.5) + cov_row(2, 1, 1));
+		fs::copy_file(jd / "window_5.tum", jd / "window_5_lagged.tum");
+		fs::copy_file(jd / "window_5.cov", jd / "window_5_lagged.cov");
 	}
 	MergeOptions mo;
 	mo.dir = d.string();
 	mo.plots = false;
 	std::ostringstream out, log;
 	const NeesReport r = merge_nees_sweep(plan, mo, out, log);
-	ASSERT_EQ(r.estimators.size(), 1u);
+	ASSERT_EQ(r.estimators.size(), 2u);
+	EXPECT_EQ(r.estimators[1].label, "window W=5 lagged");
 	EXPECT_EQ(r.estimators[0].runs, 2u);
 	EXPECT_EQ(r.estimators[0].average.position.mean, (std::vector<double>{1.0, 0.0}));
 	EXPECT_EQ(r.estimators[0].average.pose.mean, (std::vector<double>{1.0, 0.0}));
@@ -177,7 +192,35 @@ TEST(MergeNees, HandMadeSweep)
 	EXPECT_NE(csv.find("\nwindow W=5,1,2,1,6,"), std::string::npos) << csv;
 	EXPECT_NE(out.str().find("swba nees: 2 runs (seeds 1-2) of sim.ini, 2 steps"), std::string::npos) << out.str();
 	// Mean 1 is inside the band of 2 runs × 3 dof, [χ²₆(0.025), χ²₆(0.975)] / 2 = [0.62, 7.22]; 0 is not: 50 %.
-	EXPECT_NE(out.str().find("window W=5     2    3   [0.62, 7.22]   50.0 %    0.500"), std::string::npos) << out.str();
+	EXPECT_NE(out.str().find("\nwindow W=5            2    3   [0.62, 7.22]   50.0 %    0.500"), std::string::npos)
+		<< out.str();
+
+	EXPECT_EQ(out.str().find("fixed dofs"), std::string::npos);
+
+	// A planar estimator: z, roll and pitch fixed (zero rows and columns): 2 and 3 dof, and a note.
+	for (const char* seed : {"seed1", "seed2"})
+	{
+		std::string planar;
+		for (int t : {1, 2})
+			planar += std::to_string(t) + " 1 0 0 1 0 0  1 0 0 0 0 0 1 0 0 0 0 0 0 0 0 0 0 0 0 0 1\n";
+		write(d / "jobs" / seed / "window_5_lagged.cov", planar);
+	}
+	std::ostringstream planar_out;
+	const NeesReport pr = merge_nees_sweep(plan, mo, planar_out, log);
+	EXPECT_EQ(pr.estimators[1].average.position.dof_sum.front(), 4);
+	EXPECT_EQ(pr.estimators[1].average.pose.dof_sum.front(), 6);
+	EXPECT_NE(planar_out.str().find("note: window W=5 lagged: fixed dofs (zero rows and columns of its covariance, e.g. "
+									"a planar model) left out: position NEES over 2 dof, pose NEES over 3 dof"),
+			  std::string::npos)
+		<< planar_out.str();
+
+	// A job stopped before its end (its summary lacks the lagged row): named, not merged.
+	write(d / "jobs" / "seed2" / "summary.json", summary_json(gt.string(), false));
+	std::ostringstream log2;
+	EXPECT_THROW(merge_nees_sweep(plan, mo, out, log2), std::runtime_error);
+	EXPECT_NE(log2.str().find("job 2 (jobs/seed2): summary.json has 1 estimator rows, expected 2"), std::string::npos)
+		<< log2.str();
+	write(d / "jobs" / "seed2" / "summary.json", summary_json(gt.string()));
 
 	// A missing covariance file: an error naming it.
 	fs::remove(d / "jobs" / "seed2" / "window_5.cov");

@@ -216,6 +216,13 @@ std::string format_nees_table(const NeesReport& r)
 		if (!e.failures.empty()) s << "  (" << e.failures.size() << " runs failed, left out)";
 		s << "\n";
 	}
+	for (const auto& e : r.estimators)
+	{
+		const std::string p = dof_text(e.average.position, e.average.runs), q = dof_text(e.average.pose, e.average.runs);
+		if ((p != "3" && p != "-") || (q != "6" && q != "-"))
+			s << "note: " << e.label << ": fixed dofs (zero rows and columns of its covariance, e.g. a planar model) "
+			  << "left out: position NEES over " << p << " dof, pose NEES over " << q << " dof\n";
+	}
 	return s.str();
 }
 

@@ -345,12 +345,29 @@ SweepPlan read_sweep_manifest(const std::string& dir)
 	return plan;
 }
 
+namespace
+{
+/** The rows a job's summary.json has when the job ran to its end: a job stopped half-way (killed) leaves
+ * the summary of the estimators it completed, which must not pass for a complete one. */
+std::size_t expected_rows(const RunOptions& o, const SweepJob& job)
+{
+	const std::size_t windows = job.window ? 1 : o.windows.size();
+	return (o.run_ekf ? o.ekf_methods.size() : 0) + o.policies.size() * o.fej.size() * windows * 2 +
+		   (o.run_batch ? 1 : 0) + (o.run_causal ? 1 : 0);
+}
+}  // namespace
+
 void check_jobs_complete(const SweepPlan& plan, std::ostream& log)
 {
+	RunOptions first_config, other_config;
+	load_run_config(plan.dir + "/" + kRunConfig, first_config);
+	if (plan.kind == SweepKind::Run) load_run_config(plan.dir + "/" + kWindowsConfig, other_config);
 	std::vector<std::string> missing;
 	std::size_t first = 0;
 	for (const auto& job : plan.jobs)
 	{
+		const bool first_of_group = plan.groups[job.group].jobs.front() == job.id;
+		const std::size_t expected = expected_rows(first_of_group ? first_config : other_config, job);
 		const std::string summary = job_directory(plan, job) + "/summary.json";
 		std::string why;
 		if (!fs::is_regular_file(summary))
@@ -359,11 +376,16 @@ void check_jobs_complete(const SweepPlan& plan, std::ostream& log)
 		{
 			std::ifstream f(summary);
 			const ordered_json j = ordered_json::parse(f, nullptr, false);
-			if (j.is_discarded() || !j.contains("estimators"))
+			if (j.is_discarded() || !j.contains("estimators") || !j["estimators"].is_array())
 				why = "summary.json is not a swba run summary";
 			else
+			{
 				for (const auto& e : j["estimators"])
 					if (e.value("interrupted", false)) why = "interrupted";
+				if (why.empty() && j["estimators"].size() != expected)
+					why = "summary.json has " + std::to_string(j["estimators"].size()) + " estimator rows, expected " +
+						  std::to_string(expected) + " (the job stopped before its end)";
+			}
 		}
 		if (why.empty()) continue;
 		if (missing.empty()) first = job.id;
