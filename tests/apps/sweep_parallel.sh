@@ -36,6 +36,11 @@ for f in "$out"/seq/*.tum; do
 	n=$((n + 1))
 done
 [ "$n" -eq 11 ] || fail "expected 11 TUM files (gt, ekf, 2 W x FEJ on/off x online/lagged, batch), got $n"
+# Covariance files (when swba run writes them): copied byte for byte too.
+for f in "$out"/seq/*.cov; do
+	[ -e "$f" ] || continue
+	cmp "$f" "$m/$(basename "$f")" || fail "$(basename "$f") differs"
+done
 untimed_json() { grep -v -E '"(seconds|ms_per_step)":' "$1"; }
 cmp <(untimed_json "$out/seq/summary.json") <(untimed_json "$m/summary.json") || fail "summary.json differs"
 untimed_csv() { rev "$1" | cut -d, -f3- | rev; }

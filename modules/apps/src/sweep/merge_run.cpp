@@ -152,11 +152,11 @@ RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptio
 	{
 		const JobSummary& j = jobs[k];
 		report.rows.push_back(run_row_from_json(e, j.dir, j.path));
-		if (e.at("file").is_null() || !fs::exists(j.dir + "/" + e.at("file").get<std::string>())) continue;
-		const std::string file = e.at("file").get<std::string>();
-		copy_file(j.dir + "/" + file, dir + "/" + file, files);
-		const std::string cov = covariance_file_name(file);
-		if (fs::exists(j.dir + "/" + cov)) copy_file(j.dir + "/" + cov, dir + "/" + cov, files);
+		const RunRow& row = report.rows.back();
+		if (row.file.empty() || !fs::exists(j.dir + "/" + row.file)) continue;
+		copy_file(j.dir + "/" + row.file, dir + "/" + row.file, files);
+		const std::string cov = find_covariance_file(j.dir, row);
+		if (!cov.empty()) copy_file(cov, dir + "/" + fs::path(cov).filename().string(), files);
 	}
 	if (fs::exists(jobs.front().dir + "/gt.tum")) copy_file(jobs.front().dir + "/gt.tum", dir + "/gt.tum", files);
 

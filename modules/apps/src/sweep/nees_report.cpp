@@ -150,10 +150,11 @@ NeesReport merge_nees_sweep(const SweepPlan& plan, const MergeOptions& options, 
 					continue;
 				}
 				if (row.file.empty()) throw std::runtime_error(s.path + ": " + row.label + " has no trajectory file");
-				const std::string cov = s.dir + "/" + covariance_file_name(row.file);
-				if (!fs::exists(cov))
-					throw std::runtime_error("no covariance file " + cov + ": swba run writes <stem>.cov next to each "
-											 "TUM file (doc/sweeps.md); this job's run wrote none, so there is no NEES");
+				const std::string cov = find_covariance_file(s.dir, row);
+				if (cov.empty())
+					throw std::runtime_error("no covariance file " + s.dir + "/" + covariance_file_name(row.file) +
+											 ": swba run writes <stem>.cov next to each TUM file (doc/sweeps.md); this "
+											 "job's run wrote none, so there is no NEES");
 				runs[row.label].push_back(eval::run_nees(row.estimate, eval::read_covariance_file(cov), gt, cov));
 				est.runs++;
 			}

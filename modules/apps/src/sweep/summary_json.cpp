@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <vector>
 
 namespace swba::apps
 {
@@ -105,5 +106,15 @@ std::string covariance_file_name(const std::string& tum_file)
 	if (tum_file.size() > ext.size() && tum_file.compare(tum_file.size() - ext.size(), ext.size(), ext) == 0)
 		return tum_file.substr(0, tum_file.size() - ext.size()) + ".cov";
 	return tum_file + ".cov";
+}
+
+std::string find_covariance_file(const std::string& dir, const RunRow& row)
+{
+	if (row.file.empty()) return "";
+	std::vector<std::string> names = {covariance_file_name(row.file)};
+	if (row.name == "ekf" && !row.method.empty()) names.push_back("ekf_" + row.method + ".cov");
+	for (const auto& n : names)
+		if (std::filesystem::exists(dir + "/" + n)) return dir + "/" + n;
+	return "";
 }
 }  // namespace swba::apps

@@ -28,4 +28,8 @@ RunRow run_row_from_json(const nlohmann::ordered_json& entry, const std::string&
 
 /** The covariance file of a TUM file: same stem, ".cov" (window_30.tum → window_30.cov). */
 std::string covariance_file_name(const std::string& tum_file);
+
+/** The covariance file of `row` in `dir`: <TUM stem>.cov, or for an EKF row written as ekf.tum (one
+ * method) also ekf_<method>.cov; "" when neither exists. */
+std::string find_covariance_file(const std::string& dir, const RunRow& row);
 }  // namespace swba::apps
