@@ -3,7 +3,8 @@
 # configuration (doc/sweeps.md): ape.txt and every TUM file byte for byte, summary.json and ape.csv but
 # for the wall times, the table but for its ms/step column. Then: the Slurm script runs line K of the
 # list when SLURM_ARRAY_TASK_ID=K; swba merge names a job that has not run, and re-running that one
-# line alone completes the sweep.
+# line alone completes the sweep; a job that failed under GNU parallel is in its joblog and
+# `parallel --retry-failed --joblog` re-runs it.
 #   sweep_parallel.sh SWBA OUT_DIR RAWLOG
 set -euo pipefail
 swba=$1 out=$2 rawlog=$3
@@ -66,4 +67,16 @@ if SLURM_ARRAY_TASK_ID=3 bash "$sb" 2>"$out/slurm3.err"; then fail "task 3 of 2 
 grep -q "no line 3" "$out/slurm3.err" || fail "task 3: no message"
 "$swba" merge "$out/sweep" --no-plots >"$out/merged2.txt" 2>/dev/null || fail "merge after re-running job 2"
 cmp <(untimed_table "$out/merged.txt") <(untimed_table "$out/merged2.txt") || fail "table differs after the re-run"
-echo "OK: sweep on GNU parallel -j 2 merged bit-identical; Slurm task 2 re-ran job 2"
+
+# A failed job in GNU parallel's joblog, re-run alone by parallel --retry-failed (doc/sweeps.md).
+mv "$out/sweep/config_windows.ini" "$out/config_windows.ini"
+rm -f "$j2/summary.json"
+if parallel -j 2 --joblog "$out/retry.joblog" <"$out/sweep/jobs.txt" >"$out/retry.out" 2>&1; then
+	fail "parallel succeeded with job 2's config missing"
+fi
+[ "$(awk -F'\t' 'NR > 1 && $7 != 0' "$out/retry.joblog" | wc -l)" -eq 1 ] || fail "joblog does not show 1 failed job"
+mv "$out/config_windows.ini" "$out/sweep/config_windows.ini"
+parallel --retry-failed --joblog "$out/retry.joblog" >"$out/retry2.out" 2>&1 || fail "parallel --retry-failed: $(cat "$out/retry2.out")"
+"$swba" merge "$out/sweep" --no-plots >"$out/merged3.txt" 2>/dev/null || fail "merge after --retry-failed"
+cmp <(untimed_table "$out/merged.txt") <(untimed_table "$out/merged3.txt") || fail "table differs after --retry-failed"
+echo "OK: sweep on GNU parallel -j 2 merged bit-identical; Slurm task 2 and parallel --retry-failed re-ran job 2"
