@@ -2,7 +2,10 @@
 // NEES merge on a hand-made sweep (covariance files written here).
 #include <gtest/gtest.h>
 #include <swba/apps/nees.h>
+#include <swba/apps/simulate.h>
 #include <swba/apps/sweep.h>
+
+#include <mrpt/config/CConfigFileMemory.h>
 
 #include <filesystem>
 #include <fstream>
@@ -235,5 +238,47 @@ TEST(MergeNees, HandMadeSweep)
 				  std::string::npos)
 			<< e.what();
 	}
+	fs::remove_all(d);
+}
+
+TEST(Simulate, IniGetsTheSeedAndOutputNames)
+{
+	const std::string ini = "# comment\n[Params]\nrandom_seed = 1   // >0: deterministic\nnSteps = 10\noutFile = x.rawlog\n"
+							"outDir = /elsewhere\n[RANDOMSET_1]\nnLandmarks = 5\n";
+	const std::string out = simulation_ini(ini, "t.ini", 42, "run_seed42");
+	mrpt::config::CConfigFileMemory cfg(out);
+	EXPECT_EQ(cfg.read_int("Params", "random_seed", 0), 42);
+	EXPECT_EQ(cfg.read_string("Params", "outFile", ""), "run_seed42.rawlog");
+	EXPECT_EQ(cfg.read_string("Params", "outDir", ""), ".");
+	EXPECT_EQ(cfg.read_int("Params", "nSteps", 0), 10);
+	EXPECT_EQ(cfg.read_int("RANDOMSET_1", "nLandmarks", 0), 5);
+	EXPECT_THROW(simulation_ini("[Params]\nnSteps = 10\n", "t.ini", 1, "x"), std::runtime_error);
+}
+
+TEST(Simulate, ProgramThatWritesNothingIsAnErrorNamingItsLog)
+{
+	const fs::path d = fresh_dir("simulate");
+	SimulateOptions o;
+	o.ini = std::string(SWBA_SHARE_DIR) + "/rawlogs/kf-slam_6D_noisy.ini";
+	o.seed = 3;
+	o.out_dir = d.string();
+	o.program = "true";  // exits 0 and writes nothing, as simul-landmarks does on a bad INI
+	std::ostringstream log;
+	try
+	{
+		simulate_rawlog(o, log);
+		ADD_FAILURE() << "no error";
+	}
+	catch (const std::runtime_error& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("true failed on '" + o.ini + "' (seed 3): no rawlog written; see " +
+											 (d / "kf-slam_6D_noisy_seed3.simul-landmarks.log").string()),
+				  std::string::npos)
+			<< e.what();
+	}
+	o.program = "/nonexistent/simul-landmarks";
+	EXPECT_THROW(simulate_rawlog(o, log), std::runtime_error);
+	o.seed = 0;
+	EXPECT_THROW(o.validate(), std::invalid_argument);
 	fs::remove_all(d);
 }
