@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <ostream>
 #include <sstream>
@@ -27,8 +28,14 @@ namespace
 {
 /** The rows of a rawlog's jobs in the order one `swba run` makes them: the EKF rows, then per landmark
  * policy × FEJ setting the window rows of each W (online, lagged), then batch and causal. Each with the
- * index of its job. */
-std::vector<std::pair<std::size_t, ordered_json>> merged_estimators(const std::vector<JobSummary>& jobs)
+ * job and its index there. */
+struct MergedRow
+{
+	std::size_t job = 0, index = 0;	 ///< which job, which of its "estimators"
+	ordered_json entry;
+};
+
+std::vector<MergedRow> merged_estimators(const std::vector<JobSummary>& jobs)
 {
 	for (const auto& j : jobs)
 		for (const auto& e : j.json.at("estimators"))
@@ -37,12 +44,18 @@ std::vector<std::pair<std::size_t, ordered_json>> merged_estimators(const std::v
 			if (name != "ekf" && name != "window" && name != "batch" && name != "causal")
 				throw std::runtime_error(j.path + ": unknown estimator '" + name + "'");
 		}
-	std::vector<std::pair<std::size_t, ordered_json>> out;
+	std::vector<MergedRow> out;
 	auto take = [&](const std::string& name, const ordered_json* combo) {
 		for (std::size_t k = 0; k < jobs.size(); k++)
-			for (const auto& e : jobs[k].json.at("estimators"))
+		{
+			const auto& rows = jobs[k].json.at("estimators");
+			for (std::size_t i = 0; i < rows.size(); i++)
+			{
+				const auto& e = rows[i];
 				if (e.at("name") == name && (!combo || (e.at("policy") == (*combo)[0] && e.at("fej") == (*combo)[1])))
-					out.emplace_back(k, e);
+					out.push_back({k, i, e});
+			}
+		}
 	};
 	take("ekf", nullptr);
 	std::vector<ordered_json> combos;  // [policy, fej] in the order first seen
@@ -57,6 +70,29 @@ std::vector<std::pair<std::size_t, ordered_json>> merged_estimators(const std::v
 	take("batch", nullptr);
 	take("causal", nullptr);
 	return out;
+}
+
+/** A job's ape.csv as its lines (header first), or its ape.txt as one block per estimator (each from
+ * its "=== " line); one record per "estimators" entry. Throws std::runtime_error naming the file when
+ * the count does not match. */
+std::vector<std::string> job_file_records(const JobSummary& job, const std::string& name, bool blocks)
+{
+	const std::string path = job.dir + "/" + name;
+	std::ifstream f = open_input_file(path, std::ios::in, "job output");
+	std::vector<std::string> records;
+	std::string line;
+	while (std::getline(f, line))
+	{
+		if (!blocks || line.rfind("=== ", 0) == 0 || records.empty())
+			records.push_back(line + "\n");
+		else
+			records.back() += line + "\n";
+	}
+	const std::size_t expected = job.json.at("estimators").size() + (blocks ? 0 : 1);
+	if (records.size() != expected || (blocks && !records.empty() && records.front().rfind("=== ", 0) != 0))
+		throw std::runtime_error(path + ": " + std::to_string(records.size()) + " " + (blocks ? "blocks" : "lines") +
+								 ", expected " + std::to_string(expected) + " (one per estimator of summary.json)");
+	return records;
 }
 
 void copy_file(const std::string& from, const std::string& to, std::vector<std::string>& files)
@@ -138,7 +174,7 @@ RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptio
 	ordered_json merged = jobs.front().json;
 	const auto rows = merged_estimators(jobs);
 	merged["estimators"] = ordered_json::array();
-	for (const auto& [k, e] : rows) merged["estimators"].push_back(e);
+	for (const auto& r : rows) merged["estimators"].push_back(r.entry);
 
 	std::error_code ec;
 	fs::create_directories(dir, ec);
@@ -148,10 +184,10 @@ RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptio
 	report.ground_truth = merged.at("ground_truth").is_null() ? "" : merged.at("ground_truth").get<std::string>();
 	report.steps = merged.at("steps").get<std::size_t>();
 	report.distinct_landmarks = merged.at("landmarks").get<std::size_t>();
-	for (const auto& [k, e] : rows)
+	for (const auto& m : rows)
 	{
-		const JobSummary& j = jobs[k];
-		report.rows.push_back(run_row_from_json(e, j.dir, j.path));
+		const JobSummary& j = jobs[m.job];
+		report.rows.push_back(run_row_from_json(m.entry, j.dir, j.path));
 		const RunRow& row = report.rows.back();
 		if (row.file.empty() || !fs::exists(j.dir + "/" + row.file)) continue;
 		copy_file(j.dir + "/" + row.file, dir + "/" + row.file, files);
@@ -170,8 +206,21 @@ RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptio
 		write_file_atomically(dir + "/" + name, [&](std::ostream& f) { f << text; });
 		files.push_back(dir + "/" + name);
 	};
-	write("ape.txt", format_ape_text(report));
-	write("ape.csv", format_ape_csv(report));
+	// ape.txt and ape.csv: the jobs' own rows, in the merged order (every column they have, verbatim).
+	std::vector<std::vector<std::string>> csv, text;
+	for (const auto& j : jobs)
+	{
+		csv.push_back(job_file_records(j, "ape.csv", false));
+		text.push_back(job_file_records(j, "ape.txt", true));
+	}
+	std::string merged_csv = csv.front().front(), merged_text;
+	for (const auto& m : rows)
+	{
+		merged_csv += csv[m.job][m.index + 1];
+		merged_text += text[m.job][m.index];
+	}
+	write("ape.txt", merged_text);
+	write("ape.csv", merged_csv);
 	write("summary.json", merged.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n");
 	write("config.ini", "# swba run: the options of this run (load with --config)\n" + format_run_config(run));
 

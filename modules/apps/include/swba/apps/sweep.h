@@ -6,9 +6,10 @@
  *
  * Why the figures are the same: the estimators of a run are independent (each reads the rawlog and its
  * options only, and with one solver thread, the default, every solve is deterministic), so `swba run --windows 10` computes the
- * W = 10 rows exactly as `swba run --windows 5,10` does; the merge reads them back from summary.json,
- * whose numbers round-trip exactly (nlohmann-json writes the shortest text that reads back as the same
- * double). Only the wall times (seconds, ms/step) are each job's own.
+ * W = 10 rows exactly as `swba run --windows 5,10` does; the merge puts the jobs' rows of summary.json,
+ * ape.txt and ape.csv verbatim into the order one run makes, and the table is printed from
+ * summary.json, whose numbers read back exactly (nlohmann-json writes the shortest text that reads back
+ * as the same double). Only the wall times (seconds, ms/step) are each job's own.
  *
  * Layout of a sweep directory DIR:
  *   sweep.json          what the merge needs: kind, groups (rawlogs), jobs with their directories
