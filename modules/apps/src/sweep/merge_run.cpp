@@ -191,9 +191,13 @@ RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptio
 		const RunRow& row = report.rows.back();
 		if (row.file.empty() || !fs::exists(j.dir + "/" + row.file)) continue;
 		copy_file(j.dir + "/" + row.file, dir + "/" + row.file, files);
-		const std::string cov = find_covariance_file(j.dir, row);
-		if (!cov.empty()) copy_file(cov, dir + "/" + fs::path(cov).filename().string(), files);
 	}
+	// Covariance files (<stem>.cov and whatever else swba run writes as *.cov): the jobs' rows have
+	// distinct stems, so every job's are copied as they are.
+	for (const auto& j : jobs)
+		for (const auto& entry : fs::directory_iterator(j.dir))
+			if (entry.is_regular_file() && entry.path().extension() == ".cov")
+				copy_file(entry.path().string(), dir + "/" + entry.path().filename().string(), files);
 	if (fs::exists(jobs.front().dir + "/gt.tum")) copy_file(jobs.front().dir + "/gt.tum", dir + "/gt.tum", files);
 
 	RunOptions run = config;

@@ -145,7 +145,7 @@ struct RunMerge
 };
 
 /** Merges the jobs of a run sweep: per rawlog, <out>/<rawlog name>/ gets what `swba run` writes (TUM
- * and covariance files copied from the jobs, ape.txt, ape.csv, summary.json, config.ini, plots) and the
+ * and *.cov files copied from the jobs, ape.txt, ape.csv, summary.json, config.ini, plots) and the
  * comparison table goes to `out`; with several rawlogs also ape_across_rawlogs.txt/.csv (APE rmse per
  * estimator over the rawlogs). Throws std::runtime_error on a missing or inconsistent job. */
 RunMerge merge_run_sweep(const SweepPlan& plan, const MergeOptions& options, std::ostream& out, std::ostream& log);
