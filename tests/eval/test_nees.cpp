@@ -176,6 +176,31 @@ TEST(RunNees, GroundTruthIsTakenRelativeToItsFirstRow)
 	EXPECT_NEAR(r2.position[1].value, 2.0, 1e-9);
 }
 
+TEST(RunNees, APoseWithZeroCovarianceIsLeftOutAndCounted)
+{
+	// An EKF before its first prediction: the pose at t = 1 has no uncertainty at all. It has no NEES; the
+	// pose at t = 2 does. Only one of the two covariances zero is an error.
+	const std::vector<CPose3D> gt = {CPose3D(), CPose3D(), CPose3D(1, 0, 0, 0, 0, 0)};
+	Trajectory est;
+	est.push_back(1, CPose3D());
+	est.push_back(2, CPose3D());
+	std::istringstream cov(diagonal_row(1, {0, 0, 0}, {0, 0, 0, 0, 0, 0}) + diagonal_row(2, {0.25, 1, 1}, {1, 1, 1, 1, 1, 1}));
+	const RunNees r = run_nees(est, read_covariance_file(cov, "c.cov"), gt, "c.cov");
+	EXPECT_EQ(r.fixed_poses, 1u);
+	ASSERT_EQ(r.stamps, (std::vector<double>{2}));
+	EXPECT_DOUBLE_EQ(r.position[0].value, 4.0);
+	std::istringstream half(diagonal_row(1, {0, 0, 0}, {1, 1, 1, 1, 1, 1}) + diagonal_row(2, {1, 1, 1}, {1, 1, 1, 1, 1, 1}));
+	try
+	{
+		run_nees(est, read_covariance_file(half, "c.cov"), gt, "c.cov");
+		ADD_FAILURE() << "no error";
+	}
+	catch (const std::runtime_error& e)
+	{
+		EXPECT_STREQ(e.what(), "c.cov: row 1: the position covariance is zero but the pose one is not");
+	}
+}
+
 TEST(RunNees, MismatchesAreErrorsNamingTheFileAndRow)
 {
 	const std::vector<CPose3D> gt = {CPose3D(), CPose3D(), CPose3D()};

@@ -208,6 +208,15 @@ RunNees run_nees(const Trajectory& estimate, const std::vector<CovarianceRow>& c
 			throw std::runtime_error(where + ": stamp " + std::to_string(t) + " has no ground-truth row (" +
 									 std::to_string(ground_truth.size()) + " rows)");
 		const mrpt::poses::CPose3D truth = ground_truth[static_cast<std::size_t>(r)] - origin;
+		const bool position_fixed = covariance[i].position.isZero(0), pose_fixed = covariance[i].pose.isZero(0);
+		if (position_fixed && pose_fixed)
+		{
+			out.fixed_poses++;
+			continue;
+		}
+		if (position_fixed != pose_fixed)
+			throw std::runtime_error(where + ": the " + (position_fixed ? "position" : "pose") +
+									 " covariance is zero but the " + (position_fixed ? "pose" : "position") + " one is not");
 		try
 		{
 			out.position.push_back(position_nees(estimate.poses[i], truth, covariance[i].position));

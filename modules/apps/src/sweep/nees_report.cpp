@@ -140,7 +140,7 @@ NeesReport merge_nees_sweep(const SweepPlan& plan, const MergeOptions& options, 
 				if (!index.count(row.label))
 				{
 					index[row.label] = report.estimators.size();
-					report.estimators.push_back({row.label, 0, {}, {}});
+					report.estimators.push_back({row.label, 0, {}, 0, {}});
 				}
 				NeesEstimator& est = report.estimators[index[row.label]];
 				if (row.failed)
@@ -156,6 +156,7 @@ NeesReport merge_nees_sweep(const SweepPlan& plan, const MergeOptions& options, 
 											 ": swba run writes <stem>.cov next to each TUM file (doc/sweeps.md); this "
 											 "job's run wrote none, so there is no NEES");
 				runs[row.label].push_back(eval::run_nees(row.estimate, eval::read_covariance_file(cov), gt, cov));
+				est.fixed_poses += runs[row.label].back().fixed_poses;
 				est.runs++;
 			}
 		}
@@ -217,6 +218,10 @@ std::string format_nees_table(const NeesReport& r)
 		if (!e.failures.empty()) s << "  (" << e.failures.size() << " runs failed, left out)";
 		s << "\n";
 	}
+	for (const auto& e : r.estimators)
+		if (e.fixed_poses)
+			s << "note: " << e.label << ": " << e.fixed_poses
+			  << " poses with a zero covariance (every dof fixed, e.g. before the filter's first prediction) left out\n";
 	for (const auto& e : r.estimators)
 	{
 		const std::string p = dof_text(e.average.position, e.average.runs), q = dof_text(e.average.pose, e.average.runs);

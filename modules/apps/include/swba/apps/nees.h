@@ -56,6 +56,8 @@ struct NeesEstimator
 	std::string label;				   ///< the swba run row label, e.g. "window W=10 slam fej lagged"
 	std::size_t runs = 0;			   ///< runs that entered the average (the estimator did not fail)
 	std::vector<std::string> failures; ///< "seed S: failed at step k: …" for each run left out
+	/** Poses with every dof fixed (zero covariance), left out, over all runs (eval::RunNees::fixed_poses). */
+	std::size_t fixed_poses = 0;
 	eval::AverageNees average;
 };
 

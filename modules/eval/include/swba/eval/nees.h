@@ -15,7 +15,9 @@
  *
  * Degenerate degrees of freedom: a dof whose row and column of the covariance are zero (a planar
  * estimator's z, roll, pitch) is fixed, not estimated; it is left out and the NEES has that many fewer
- * dof (NeesValue::dof says how many were used). */
+ * dof (NeesValue::dof says how many were used). A pose whose covariance is zero altogether (every dof
+ * fixed, e.g. an EKF's pose before its first prediction) has no NEES: run_nees leaves it out and counts
+ * it. */
 #pragma once
 
 #include <swba/eval/trajectory.h>
@@ -77,13 +79,16 @@ struct RunNees
 {
 	std::vector<double> stamps;
 	std::vector<NeesValue> position, pose;
+	/** Poses left out because their position and pose covariances are both zero (every dof fixed). */
+	std::size_t fixed_poses = 0;
 };
 
 /** NEES of `estimate` (stamps t = k + 1, paired with ground-truth row k + 1 as in ground_truth.h) with
  * the covariance rows `covariance` (one per estimate pose, same stamps), against `ground_truth` rows
- * expressed relative to row 0. `source` (the covariance file) names errors: a row count or stamp that
- * differs from the estimate's, a missing ground-truth row, a covariance that is not positive definite
- * ("<source>:<row>: …"). Throws std::runtime_error. */
+ * expressed relative to row 0. A pose whose two covariances are zero is left out (fixed_poses). `source`
+ * (the covariance file) names errors: a row count or stamp that differs from the estimate's, a missing
+ * ground-truth row, a covariance that is not positive definite, one of the two covariances zero and the
+ * other not ("<source>: row <n>: …"). Throws std::runtime_error. */
 RunNees run_nees(const Trajectory& estimate, const std::vector<CovarianceRow>& covariance,
 				 const std::vector<mrpt::poses::CPose3D>& ground_truth, const std::string& source);
 
