@@ -289,7 +289,7 @@ RunMerge merge_run_sweep(const SweepPlan& plan, const MergeOptions& options, std
 			result.files.push_back(out_dir + "/" + name);
 		}
 	}
-	log << "swba merge: wrote " << result.files.size() << " files into " << out_dir << "/\n";
+	log << "swba merge: merged files in " << out_dir << "/\n";  // (no file count: it follows what swba run writes)
 	return result;
 }
 }  // namespace swba::apps
