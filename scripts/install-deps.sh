@@ -8,7 +8,9 @@ pkgs=(cmake g++ make libeigen3-dev libsuitesparse-dev libgtest-dev
 	libmrpt-graphslam-dev  # optional: MRPT graph-SLAM peer of the pose-graph benchmark
 	libceres-dev     # optional: benchmark peer only
 	gnuplot-nox      # optional: headless plots
-	clang libclang-rt-14-dev)  # the fuzz smoke of ./dev.sh test (libFuzzer, sanitizer runtimes)
+	clang libclang-rt-14-dev  # the fuzz smoke of ./dev.sh test (libFuzzer, sanitizer runtimes)
+	mrpt-apps        # simul-landmarks: simulated rawlogs (swba simulate, swba nees, scripts/make-rawlogs.sh)
+	parallel)        # GNU parallel: runs the job lists of swba jobs / swba nees (doc/sweeps.md)
 missing=()
 for p in "${pkgs[@]}"; do
 	dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -17,6 +17,10 @@ std::optional<int> parse_command_line(TCLAP::CmdLine& cmd, int argc, char** argv
  * from the executable's own path), else the source tree's share/. */
 std::string share_dir();
 
+/** This swba executable's absolute path (from /proc/self/exe; "swba" when it cannot be read): what
+ * generated job lines call. */
+std::string this_executable();
+
 /** `--threads N` of the solver commands: "threads for evaluation and assembly (Default: 1)". */
 inline TCLAP::ValueArg<int> threads_arg(TCLAP::CmdLine& cmd)
 {

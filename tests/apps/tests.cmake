@@ -186,3 +186,26 @@ swba_stream_case(directba "Wrote ${_streams}/directba_initial.ply.*Wrote ${_stre
   --ply-final ${_streams}/directba_final.ply --out ${_streams}/directba)
 swba_stream_case(ape "saved ${_streams}/ape/ape_stats.json" ape ${SWBA_DATA_DIR}/evo_reference/gt_kf-slam_6D_demo.tum
   ${SWBA_DATA_DIR}/evo_reference/ekf_kf-slam_6D_demo.tum --save-results ${_streams}/ape)
+# Sweeps as jobs (doc/sweeps.md): swba jobs -> GNU parallel -j 2 -> swba merge equals one sequential
+# swba run (tests/apps/sweep_parallel.sh); the Slurm script runs line K; a missing job is named.
+add_test(NAME apps.sweep.parallel_merge_equals_sequential
+  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/sweep_parallel.sh $<TARGET_FILE:swba> ${_out}/sweep_parallel ${_demo})
+set_tests_properties(apps.sweep.parallel_merge_equals_sequential PROPERTIES PASS_REGULAR_EXPRESSION "OK: sweep"
+  TIMEOUT 300)
+# swba nees sequential vs its jobs on GNU parallel -j 2 + swba merge (2 simulated runs).
+add_test(NAME apps.sweep.nees_parallel_equals_sequential
+  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/nees_sweep.sh $<TARGET_FILE:swba> ${_out}/nees_sweep)
+set_tests_properties(apps.sweep.nees_parallel_equals_sequential PROPERTIES PASS_REGULAR_EXPRESSION "OK: " TIMEOUT 300)
+# Command-line conventions of the new commands.
+swba_cli_case(jobs_help 0 REGEX "--simulate.*--seeds.*--windows.*--config.*--out.*--swba" ARGS jobs --help)
+swba_cli_case(merge_help 0 REGEX "--out.*--no-plots" ARGS merge --help)
+swba_cli_case(nees_help 0 REGEX "--runs.*--first-seed.*--ini.*--windows.*--fej.*--jobs-only" ARGS nees --help)
+swba_cli_case(simulate_help 0 REGEX "--seed.*--out" ARGS simulate --help)
+swba_cli_case(jobs_bad_seeds 2 REGEX "^swba jobs: error: --seeds: range '5-2' is reversed \\(see --help\\)"
+  ARGS jobs --simulate ${CMAKE_SOURCE_DIR}/share/rawlogs/kf-slam_6D_noisy.ini --seeds 5-2 --out ${_out}/jobs_bad_seeds)
+swba_cli_case(jobs_no_rawlog 2 REGEX "^swba jobs: error: no rawlog given" ARGS jobs --out ${_out}/jobs_no_rawlog)
+swba_cli_case(nees_bad_runs 2 REGEX "^swba nees: error: --runs must be >= 1" ARGS nees --runs 0 --out ${_out}/nees_bad_runs)
+swba_cli_case(merge_not_a_sweep 1 REGEX "^swba merge: error: sweep manifest '/nonexistent/sweep.json': file does not exist"
+  ARGS merge /nonexistent)
+swba_cli_case(simulate_bad_ini 1 REGEX "^swba simulate: error: simul-landmarks INI '[^']*swba_run.ini': no \\[Params\\] random_seed"
+  ARGS simulate ${CMAKE_SOURCE_DIR}/share/config/swba_run.ini --out ${_out}/simulate_bad_ini)

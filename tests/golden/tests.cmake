@@ -49,3 +49,11 @@ add_test(NAME golden.self_check_moved_figure
           -DREF=${_golden}/selfcheck/moved_figure.txt -DACTUAL=${_golden_out}/self_check.actual.txt
           -DWORK_DIR=${_golden_out}/self_check -P ${_golden}/golden.cmake)
 set_tests_properties(golden.self_check_moved_figure PROPERTIES WILL_FAIL TRUE)
+
+# swba jobs -> GNU parallel -j 2 -> swba merge over two rawlogs: the per-rawlog tables (the figures of
+# swba run) and the APE rmse of each estimator over the rawlogs.
+add_test(NAME golden.merge_sweep
+  COMMAND ${CMAKE_COMMAND} "-DCMD=bash|${_golden}/sweep.sh|$<TARGET_FILE:swba>|${_golden_out}/merge_sweep|${SWBA_MRPT_DATASETS}"
+          -DREF=${_golden}/ref/merge_sweep.txt -DACTUAL=${_golden_out}/merge_sweep.actual.txt
+          -DWORK_DIR=${_golden_out}/merge_sweep -P ${_golden}/golden.cmake)
+set_tests_properties(golden.merge_sweep PROPERTIES LABELS golden TIMEOUT 300)
