@@ -100,6 +100,10 @@ IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& 
 		number_key<O>(section, "robust_probability", "probability in (0, 1)",
 					  "robust-loss scale: sqrt of the chi-square quantile at this probability (3 DoF in 6D, 2 in 2D)",
 					  &O::robust_probability, parse_probability),
+		enum_key<O, DataAssociation>(section, "association",
+									 "data association of the readings: auto (the readings' IDs if they have "
+									 "them, else jcbb), ids, nn or jcbb (doc/association.md)",
+									 "data association", [](auto& o) -> auto& { return o.association; }),
 	};
 }
 }  // namespace swba::estimators
