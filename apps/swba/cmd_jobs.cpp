@@ -37,18 +37,18 @@ int run_jobs(int argc, char** argv)
 										  false, "", "INI");
 	TCLAP::ValueArg<std::string> seeds("", "seeds", "seeds of --simulate, e.g. 1-10 or 1,4,7", false, "", "LIST");
 	TCLAP::ValueArg<std::string> windows("", "windows",
-										 "window sizes W, comma-separated, each >= 2: one job each. (Default: the "
+										 "window sizes W, comma-separated, each >= 2: one job each (Default: the "
 										 "config's [window] sizes, 5,10,20,30)",
 										 false, "", "LIST");
 	TCLAP::ValueArg<std::string> config("", "config", "swba run INI for every job (see swba run --help)", false, "",
 										"INI");
-	TCLAP::ValueArg<std::string> out("", "out", "sweep directory, created. (Default: swba_sweep)", false, "swba_sweep",
+	TCLAP::ValueArg<std::string> out("", "out", "sweep directory, created (Default: swba_sweep)", false, "swba_sweep",
 									 "DIR");
 	TCLAP::ValueArg<std::string> swba("", "swba",
 									  "swba executable the job lines call; with parallel --sshlogin it must exist on "
-									  "every machine. (Default: this swba, " + this_executable() + ")",
+									  "every machine (Default: this swba, " + this_executable() + ")",
 									  false, "", "PATH");
-	for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&swba, &out, &config, &windows, &seeds, &simulate})
+	for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&simulate, &seeds, &windows, &config, &out, &swba})
 		cmd.add(*a);
 	if (auto rc = parse_command_line(cmd, argc, argv)) return *rc;
 	apps::SweepOptions o;
@@ -85,11 +85,11 @@ int run_merge(int argc, char** argv)
 		"(swba nees --help). A job that has not run or failed is named, with how to re-run it.",
 		' ', "0.1.0");
 	TCLAP::UnlabeledValueArg<std::string> dir("DIR", "sweep directory", true, "", "DIR", cmd);
-	TCLAP::ValueArg<std::string> out("", "out", "output directory, created. (Default: DIR/merged, DIR/nees for a NEES sweep)",
+	TCLAP::ValueArg<std::string> out("", "out", "output directory, created (Default: DIR/merged, DIR/nees for a NEES sweep)",
 									 false, "", "DIR");
 	TCLAP::SwitchArg no_plots("", "no-plots", "do not write gnuplot plots");
-	cmd.add(no_plots);
 	cmd.add(out);
+	cmd.add(no_plots);
 	if (auto rc = parse_command_line(cmd, argc, argv)) return *rc;
 	apps::MergeOptions o;
 	o.dir = dir.getValue();

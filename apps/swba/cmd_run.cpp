@@ -68,6 +68,11 @@ struct RunCommandLine
 		"", "landmarks", "landmark parameterisation: inverse-depth or xyz (Default: inverse-depth)", false, "", "P"};
 	TCLAP::ValueArg<std::string> gauge{"", "gauge", "gauge: fixed (first pose constant), free or prior (Default: fixed)",
 									   false, "", "G"};
+	TCLAP::ValueArg<std::string> association{
+		"", "association",
+		"data association of the readings (doc/association.md): auto (the readings' landmark IDs if every reading "
+		"has one, else jcbb), ids, nn or jcbb (Default: auto)",
+		false, "", "A"};
 	TCLAP::ValueArg<double> std_range{"", "sensor-std-range",
 									  "range noise (m) for every estimator (Default: the observation's own)", false, 0, "M"};
 	TCLAP::ValueArg<double> std_yaw{"", "sensor-std-yaw-deg",
@@ -99,7 +104,7 @@ struct RunCommandLine
 		// --help lists them in this order (cli.cpp): input, main choices, tuning, output, verbosity.
 		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{
 				 &rawlog, &gt, &config,                                                      //
-				 &windows, &no_ekf, &no_batch, &causal, &ekf_method, &policy, &fej, &landmarks, &gauge,  //
+				 &windows, &no_ekf, &no_batch, &causal, &ekf_method, &policy, &fej, &landmarks, &gauge, &association,  //
 				 &std_range, &std_yaw, &std_pitch, &gate, &gate_probability, &robust_loss, &robust_probability,
 				 &max_steps, &threads,  //
 				 &out, &no_plots,       //
@@ -122,6 +127,8 @@ struct RunCommandLine
 		if (fej.isSet()) o.fej = apps::parse_fej_list(fej.getValue());
 		if (landmarks.isSet()) o.window.landmarks = estimators::parse_landmark_parameterization(landmarks.getValue());
 		if (gauge.isSet()) o.window.gauge = parse_gauge_mode(gauge.getValue());
+		if (association.isSet())
+			o.window.association = parse_enum<estimators::DataAssociation>(association.getValue(), "data association");
 		apply_noise(o);
 		apply_outliers(o.window);
 		if (max_steps.isSet())

@@ -22,11 +22,11 @@ int run_simulate(int argc, char** argv)
 	TCLAP::UnlabeledValueArg<std::string> ini("INI", "simul-landmarks INI (e.g. " + share_dir() +
 														 "/rawlogs/kf-slam_6D_noisy.ini)",
 											  true, "", "INI", cmd);
-	TCLAP::ValueArg<std::string> name("", "name", "base name of the outputs. (Default: <INI stem>_seed<S>)", false, "",
+	TCLAP::ValueArg<std::string> name("", "name", "base name of the outputs (Default: <INI stem>_seed<S>)", false, "",
 									  "NAME");
-	TCLAP::ValueArg<std::string> out("", "out", "output directory, created. (Default: .)", false, ".", "DIR");
-	TCLAP::ValueArg<long> seed("", "seed", "random seed of the simulation, >= 1. (Default: 1)", false, 1, "S");
-	for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&name, &out, &seed}) cmd.add(*a);
+	TCLAP::ValueArg<std::string> out("", "out", "output directory, created (Default: .)", false, ".", "DIR");
+	TCLAP::ValueArg<long> seed("", "seed", "random seed of the simulation, >= 1 (Default: 1)", false, 1, "S");
+	for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&seed, &out, &name}) cmd.add(*a);
 	if (auto rc = parse_command_line(cmd, argc, argv)) return *rc;
 	apps::SimulateOptions o;
 	o.ini = ini.getValue();

@@ -44,7 +44,7 @@ swba_run_case(config_applied 0 REGEX "\\(20 steps\\).*\nwindow W=7 +7 +online" N
 swba_run_case(command_line_overrides_config 0 REGEX "\\(20 steps\\).*\nwindow W=5 +5 +online" NOT_REGEX "W=7<OR>\nbatch"
   ARGS ${_demo} --config ${_data}/override.ini --windows 5 --no-plots --out ${_out}/command_line_overrides_config)
 # --help lists every option.
-swba_run_case(help 0 REGEX "--windows.*--no-ekf.*--no-batch.*--causal.*--ekf-method.*--policy.*--fej.*--landmarks.*--gauge.*--sensor-std-range.*--max-steps.*--threads.*--out"
+swba_run_case(help 0 REGEX "--windows.*--no-ekf.*--no-batch.*--causal.*--ekf-method.*--policy.*--fej.*--landmarks.*--gauge.*--association.*--sensor-std-range.*--max-steps.*--threads.*--out"
   ARGS --help)
 
 # Bad input: one line naming the file/option, exit != 0.
@@ -152,7 +152,7 @@ endforeach()
 
 # --help of every subcommand lists the positional arguments, then the options in a logical order: input, main
 # choices, tuning, output, verbosity (apps/swba/cli.cpp, help_order); every default reads "(Default: X)".
-set(_help_order_run "Where:.*<RAWLOG>.*--gt.*--config.*--windows.*--no-ekf.*--no-batch.*--causal.*--ekf-method.*--policy.*--fej.*--landmarks.*--gauge.*--sensor-std-range.*--gate .*--gate-probability.*--robust-loss.*--robust-probability.*--max-steps.*--threads.*--out.*--no-plots.*--no-progress.*--verbose.*--version.*--help")
+set(_help_order_run "Where:.*<RAWLOG>.*--gt.*--config.*--windows.*--no-ekf.*--no-batch.*--causal.*--ekf-method.*--policy.*--fej.*--landmarks.*--gauge.*--association.*--sensor-std-range.*--gate .*--gate-probability.*--robust-loss.*--robust-probability.*--max-steps.*--threads.*--out.*--no-plots.*--no-progress.*--verbose.*--version.*--help")
 set(_help_order_ape "Where:.*<REF>.*<EST>.*--ref-format.*--pose-relation.*--align.*--correct-scale.*--align-origin.*--t-max-diff.*--t-offset.*--save-results.*--plot.*--version.*--help")
 set(_help_order_rpe "Where:.*<REF>.*<EST>.*--ref-format.*--pose-relation.*--align.*--correct-scale.*--align-origin.*--delta.*--all-pairs.*--t-max-diff.*--t-offset.*--save-results.*--plot.*--version.*--help")
 set(_help_order_monoba "Where:.*--cameras.*--points.*--noise.*--depth-noise.*--pose-noise-m.*--pose-noise-rad.*--seed .*--gauge.*--fix .*--prior-weight.*--sweep-prior-weights.*--seeds.*--repetitions.*--max-iterations.*--threads.*--out.*--progress.*--version.*--help")

@@ -22,7 +22,7 @@ if(NOT DEFINED DOCS)
   file(GLOB DOCS "${SRC}/README.md" "${SRC}/doc/*.md" "${SRC}/doc/benchmarks/*.md")
 endif()
 if(NOT DEFINED WORKED_EXAMPLES)
-  set(WORKED_EXAMPLES doc/run.md doc/outliers.md doc/evaluation.md doc/monoba.md doc/bal.md doc/pgo.md doc/directba.md)
+  set(WORKED_EXAMPLES doc/run.md doc/association.md doc/outliers.md doc/evaluation.md doc/monoba.md doc/bal.md doc/pgo.md doc/directba.md)
 endif()
 include(${SRC}/tests/golden/mask.cmake)
 

@@ -21,6 +21,8 @@ swba_golden(run_default run --out <work>/out)
 swba_golden(run_policy_fej run --policy both --fej both --max-steps 150 --out <work>/out)
 # swba run on a 2D rawlog with every default: the planar model and MRPT's 2D EKF.
 swba_golden(run_planar run ${SWBA_MRPT_DATASETS}/kf-slam_demo.rawlog --out <work>/out)
+# swba run without landmark IDs: data association (JCBB) and its quality against the landmark file.
+swba_golden(run_association run ${SWBA_MRPT_DATASETS}/kf-slam_6D_demo_DA.rawlog --windows 10,30 --no-plots --out <work>/out)
 # swba bal: the shipped BAL problem (threads do not change the figures).
 swba_golden(bal bal ${_data}/bal/problem-49-7776-pre.txt)
 # swba pgo: a 2D and two 3D pose graphs.

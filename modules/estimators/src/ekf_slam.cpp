@@ -162,6 +162,14 @@ void apply_overrides(Ekf& ekf, const EkfSlamOptions& options, EkfSlamResult& res
 		else
 			add_note(res, "std_odo_z_additional_m not used by the 2D filter");
 	}
+	if (options.data_association)
+	{
+		if (*options.data_association != "nn" && *options.data_association != "jcbb")
+			throw std::invalid_argument("EKF option data_association must be nn or jcbb, got '" +
+										*options.data_association + "'");
+		ekf.options.data_assoc_method =
+			*options.data_association == "jcbb" ? mrpt::slam::assocJCBB : mrpt::slam::assocNN;
+	}
 	checked_positive(ekf.options.std_sensor_range, "std_range");
 	checked_positive(ekf.options.std_sensor_yaw, "std_yaw");
 	if (pitch) checked_positive(*pitch, "std_pitch");

@@ -47,6 +47,14 @@ std::shared_ptr<Factor> planar(std::shared_ptr<const Factor> f, std::vector<int>
 }
 }  // namespace
 
+static DataAssociation resolve_association(DataAssociation a, const io::RawlogStep& step)
+{
+	if (a != DataAssociation::Auto) return a;
+	for (const auto& r : step.readings)
+		if (r.landmark_id < 0) return DataAssociation::Jcbb;
+	return DataAssociation::Ids;
+}
+
 RangeBearingGraph::RangeBearingGraph(const SlidingWindowOptions& options)
 	: opt_(validated(options)), smoother_(smoother_options(opt_)), gate_on_entry_(opt_.gate_readings)
 {
@@ -193,7 +201,9 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 	smoother_.add_state(step.time(), vnew);
 	const Eigen::MatrixXd odo_info = add_odometry_factor(step, vprev, vnew);
 	if (step.readings.empty()) return;
-	if (gate_on_entry_) newest_pose_cov_ = odo_info.inverse();
+	if (association_ == DataAssociation::Auto) association_ = resolve_association(opt_.association, step);
+	const bool associating = association_ != DataAssociation::Ids;
+	if (gate_on_entry_ || associating) newest_pose_cov_ = odo_info.inverse();
 	Eigen::Vector3d sigma;
 	if (model_ == PoseModel::Planar)
 		sigma << opt_.sensor.resolve_range_yaw(step), 0.0;
@@ -201,6 +211,17 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 		sigma = opt_.sensor.resolve(step);
 	std::vector<std::pair<std::int32_t, Observation>> readings;
 	for (const auto& rd : step.readings) readings.push_back({rd.landmark_id, {k, {rd.range, rd.yaw, rd.pitch}, sigma, -1}});
+	assigned_ids_.resize(k + 1);
+	if (associating)
+		associate_readings(readings, assigned_ids_[k]);
+	else
+		for (const auto& [id, o] : readings)
+		{
+			if (id < 0)
+				throw std::invalid_argument("step " + std::to_string(step.index) +
+											": a reading without a landmark ID (data association: nn or jcbb)");
+			assigned_ids_[k].push_back(id);
+		}
 	sum.readings += static_cast<int>(readings.size());
 	counts_.readings += readings.size();
 	if (gate_on_entry_) centre_gate(readings);

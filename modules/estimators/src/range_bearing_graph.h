@@ -10,6 +10,7 @@
  * odometry factors on (ρx, ρy, ωz) with the 3×3 planar information, readings on (range, yaw). */
 #pragma once
 
+#include <swba/estimators/data_association.h>
 #include <swba/estimators/sliding_window.h>
 #include <swba/factors/range_bearing.h>
 #include <swba/smoother/fixed_lag_smoother.h>
@@ -102,6 +103,13 @@ class RangeBearingGraph
 	const ReadingCounts& counts() const { return counts_; }
 	/** Counts the readings still held or unconfirmed as excluded (the run is over). */
 	void finish_counts();
+
+	/** The association in use: options().association, Auto resolved at the first step with readings
+	 * (Ids when every reading of that step has an ID, else Jcbb). */
+	DataAssociation association() const { return association_; }
+	/** The landmark ID each reading of pose step k was given (its own ID with DataAssociation::Ids), in
+	 * the step's reading order; empty for steps without readings. */
+	const std::vector<std::vector<std::int32_t>>& assigned_ids() const { return assigned_ids_; }
 
 	/** Every pose ever created, by step (0 = initial). */
 	const std::vector<PoseRecord>& poses() const { return poses_; }
@@ -202,6 +210,16 @@ class RangeBearingGraph
 	 * error), and the pose is left to odometry alone; the robust centre follows the readings' consensus
 	 * and a gross reading still falls outside. */
 	void centre_gate(const std::vector<std::pair<std::int32_t, Observation>>& readings);
+	/** Gives every reading of the newest step (`readings`, ID field −1 or ignored) a landmark ID by
+	 * data association (association()): the graph's landmarks and the provisional ones (first readings
+	 * waiting for confirmation) are predicted in the new pose's sensor frame at its dead-reckoned value,
+	 * with the odometry's covariance newest_pose_cov_ shared by all predictions and each landmark's own
+	 * approximated by the reading noise / (its readings); an unmatched reading gets a new ID. */
+	void associate_readings(std::vector<std::pair<std::int32_t, Observation>>& readings,
+							std::vector<std::int32_t>& assigned);
+	/** World point `p` in the frame of `sensor` on the robot at `pose_x`. */
+	Eigen::Vector3d in_sensor_frame(const double* pose_x, const mrpt::poses::CPose3D& sensor,
+									const Eigen::Vector3d& p) const;
 	/** World XYZ of landmark `lm` at the current estimate. */
 	Eigen::Vector3d world_position(const Landmark& lm) const;
 	/** Adds the factor of `o` to `lm` and records it as admitted. */
@@ -234,5 +252,8 @@ class RangeBearingGraph
 	/** The newest pose's value the gate tests its readings at (centre_gate). */
 	std::vector<double> gate_centre_;
 	ReadingCounts counts_;
+	DataAssociation association_ = DataAssociation::Auto;
+	std::int32_t next_landmark_id_ = 0;  ///< the next ID data association gives
+	std::vector<std::vector<std::int32_t>> assigned_ids_;
 };
 }  // namespace swba::estimators::detail

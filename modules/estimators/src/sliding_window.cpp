@@ -213,6 +213,15 @@ std::map<std::int32_t, LandmarkEstimate> SlidingWindowEstimator::landmark_estima
 	return impl_->graph.landmark_estimates(nullptr);
 }
 const std::vector<StepSummary>& SlidingWindowEstimator::step_summaries() const { return impl_->summaries; }
+
+std::vector<std::vector<std::int32_t>> SlidingWindowEstimator::assigned_ids() const
+{
+	// The graph's are by pose (pose k + 1 is step k's).
+	const auto& by_pose = impl_->graph.assigned_ids();
+	std::vector<std::vector<std::int32_t>> out(impl_->summaries.size());
+	for (std::size_t k = 0; k < out.size() && k + 1 < by_pose.size(); k++) out[k] = by_pose[k + 1];
+	return out;
+}
 ReadingCounts SlidingWindowEstimator::reading_counts() const
 {
 	ReadingCounts c = impl_->graph.counts();

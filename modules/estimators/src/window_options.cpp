@@ -102,6 +102,10 @@ IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& 
 					  &O::robust_probability, parse_probability),
 		{section, "covariances", "bool", "marginal covariances of every reported pose and landmark (.cov files)",
 		 [](const S& v, O& o) { o.covariances = parse_bool(v); }, [](const O& o) { return format_bool(o.covariances); }},
+		enum_key<O, DataAssociation>(section, "association",
+									 "data association of the readings: auto (the readings' IDs if they have "
+									 "them, else jcbb), ids, nn or jcbb (doc/association.md)",
+									 "data association", [](auto& o) -> auto& { return o.association; }),
 	};
 }
 }  // namespace swba::estimators

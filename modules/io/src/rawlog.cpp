@@ -263,7 +263,8 @@ void Reader::add_step(
 	if (s.has_odometry) out_.steps_with_odometry++;
 	if (s.has_odometry && s.odometry_is_2d) out_.steps_with_2d_odometry++;
 	if (!s.has_observation) out_.steps_without_observation++;
-	for (const auto& r : s.readings) ids_.insert(r.landmark_id);
+	for (const auto& r : s.readings)
+		if (r.landmark_id >= 0) ids_.insert(r.landmark_id);
 	out_.readings += s.readings.size();
 	out_.skipped_readings += s.skipped_readings;
 	out_.steps.push_back(std::move(s));

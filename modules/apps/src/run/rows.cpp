@@ -154,6 +154,8 @@ RunRow run_ekf_row(const RowContext& ctx, const std::string& method, std::vector
 	eo.method = method;
 	eo.ini_file = ctx.options.ekf_ini;
 	eo.model = ctx.base.model;
+	if (ctx.base.association == estimators::DataAssociation::NearestNeighbour) eo.data_association = "nn";
+	if (ctx.base.association == estimators::DataAssociation::Jcbb) eo.data_association = "jcbb";
 	set_ekf_sensor_noise(ctx, eo);
 	ProgressLine progress(ctx.log, ctx.options.progress, row.label, ctx.rawlog.steps.size());
 	auto last = Clock::now();
@@ -249,6 +251,7 @@ std::pair<RunRow, RunRow> run_window_rows(const RowContext& ctx, const estimator
 		total += seconds_since(t0);
 		online.step_summaries = est.step_summaries();
 		online.reading_counts = lagged.reading_counts = est.reading_counts();
+		online.assigned_ids = lagged.assigned_ids = est.assigned_ids();
 		online.estimate = after_steps(in_gauge_frame(est.online_trajectory(), wo, est.initial_pose()));
 		lagged.estimate = after_steps(in_gauge_frame(est.lagged_trajectory(), wo, est.initial_pose()));
 		if (wo.covariances)

@@ -76,8 +76,12 @@ void name_ekf_files(RunReport& report, std::size_t methods)
 
 void print_inputs(const RunOptions& options, const io::Rawlog& rawlog, const std::string& gt_path, std::ostream& log)
 {
-	log << "swba run: " << rawlog.path << ": " << rawlog.steps.size() << " steps, " << rawlog.distinct_landmarks
-		<< " landmarks, " << rawlog.readings << " readings";
+	log << "swba run: " << rawlog.path << ": " << rawlog.steps.size() << " steps, ";
+	if (rawlog.distinct_landmarks == 0 && rawlog.readings > 0)
+		log << "no landmark IDs (data association: " << enum_name(options.window.association) << "), ";
+	else
+		log << rawlog.distinct_landmarks << " landmarks, ";
+	log << rawlog.readings << " readings";
 	if (rawlog.skipped_readings) log << " (" << rawlog.skipped_readings << " invalid readings skipped)";
 	log << "\n";
 	if (gt_path.empty())
@@ -90,6 +94,83 @@ void print_inputs(const RunOptions& options, const io::Rawlog& rawlog, const std
 	for (const auto& w : rawlog.warnings) log << "warning: " << w << "\n";
 	if (rawlog.warning_count > rawlog.warnings.size())
 		log << "warning: ... " << (rawlog.warning_count - rawlog.warnings.size()) << " more warnings\n";
+}
+
+/** Auto: data association (JCBB) when some reading has no landmark ID, else the IDs. */
+estimators::DataAssociation resolve_association(estimators::DataAssociation a, const io::Rawlog& rawlog)
+{
+	if (a != estimators::DataAssociation::Auto) return a;
+	for (const auto& st : rawlog.steps)
+		for (const auto& r : st.readings)
+			if (r.landmark_id < 0) return estimators::DataAssociation::Jcbb;
+	return estimators::DataAssociation::Ids;
+}
+
+/** The truth of the readings' landmarks: their own IDs when every reading has one, else the
+ * simulator's landmark ground truth next to the rawlog with the robot path (empty: unknown). */
+estimators::ReadingIds association_truth(const io::Rawlog& rawlog, const std::string& rawlog_path,
+										 const std::vector<mrpt::poses::CPose3D>& gt, std::string& source)
+{
+	bool all_ids = true;
+	for (const auto& st : rawlog.steps)
+		for (const auto& r : st.readings) all_ids = all_ids && r.landmark_id >= 0;
+	if (all_ids)
+	{
+		source = "the rawlog's landmark IDs";
+		return estimators::reading_ids(rawlog);
+	}
+	const std::string robot = eval::default_ground_truth_path(rawlog_path);
+	const std::string suffix = "_robot_path.txt";
+	if (gt.empty() || robot.size() < suffix.size()) return {};
+	const std::string path = robot.substr(0, robot.size() - suffix.size()) + ".txt";
+	if (!mrpt::system::fileExists(path)) return {};
+	source = path;
+	// Landmarks are points a few metres apart in simulated maps; a reading's point lies within a few
+	// sensor sigmas of its landmark. 0.5 m leaves a reading of no landmark unmatched.
+	return estimators::true_landmarks_of_readings(rawlog, gt, estimators::read_landmark_ground_truth(path), 0.5);
+}
+
+/** Association quality of every row with assigned IDs, as a note per estimator. */
+void add_association_quality(RunReport& report, const io::Rawlog& rawlog, const RunOptions& options,
+							 const std::vector<mrpt::poses::CPose3D>& gt, std::ostream& log)
+{
+	std::string source;
+	const estimators::ReadingIds truth = association_truth(rawlog, options.rawlog, gt, source);
+	if (truth.empty())
+	{
+		report.notes.push_back("data association (" + std::string(enum_name(options.window.association)) +
+							   "): no ground truth of the landmarks found, quality not measured");
+		return;
+	}
+	log << "swba run: association quality against " << source << "\n";
+	for (auto& r : report.rows)
+	{
+		if (r.assigned_ids.empty() || r.failed) continue;
+		r.association = estimators::evaluate_association(r.assigned_ids, truth);
+		if (r.trajectory == "lagged") continue;
+		const auto& q = *r.association;
+		char buf[256];
+		std::snprintf(buf, sizeof buf,
+					  "%s: association %.2f %% correct (%zu of %zu associated readings right, %zu of %zu readings "
+					  "associated), %zu landmarks for %zu true, %zu duplicate, %zu spurious",
+					  r.label.c_str(), 100.0 * q.fraction_correct(), q.correct, q.associated, q.associated, q.readings,
+					  q.landmarks, q.true_landmarks, q.duplicates, q.spurious);
+		report.notes.push_back(buf);
+	}
+}
+
+/** `rawlog` with the landmark IDs `ids` (by step and reading); readings `ids` does not cover (a window
+ * run that stopped early) get IDs of their own. */
+io::Rawlog with_landmark_ids(const io::Rawlog& rawlog, const estimators::ReadingIds& ids)
+{
+	io::Rawlog out = rawlog;
+	std::int32_t next = 0;
+	for (const auto& step : ids)
+		for (std::int32_t id : step) next = std::max(next, id + 1);
+	for (std::size_t k = 0; k < out.steps.size(); k++)
+		for (std::size_t i = 0; i < out.steps[k].readings.size(); i++)
+			out.steps[k].readings[i].landmark_id = k < ids.size() && i < ids[k].size() ? ids[k][i] : next++;
+	return out;
 }
 
 /** One note per estimator on what the χ² gate and the robust loss did (lagged rows share their online
@@ -131,9 +212,24 @@ RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
 	unbounded.window_size = 0;
 	unbounded.policy = options.policies.front();
 	unbounded.first_estimate_jacobians = options.fej.front();
-	if (options.run_batch) report.rows.push_back(run_batch_row(ctx, unbounded));
+	// With data association, the batch and causal rows take the last window run's decisions (a copy:
+	// the rows vector grows below).
+	estimators::ReadingIds decided;
+	if (ctx.base.association != estimators::DataAssociation::Ids)
+		for (const auto& r : report.rows)
+			if (r.name == "window" && !r.failed && !r.assigned_ids.empty()) decided = r.assigned_ids;
+	std::optional<io::Rawlog> relabelled;
+	if (!decided.empty())
+	{
+		relabelled = with_landmark_ids(rawlog, decided);
+		unbounded.association = estimators::DataAssociation::Ids;
+	}
+	const RowContext unbounded_ctx{options, relabelled ? *relabelled : rawlog, gt, log, ctx.base, control.stop_requested};
+	if (options.run_batch) report.rows.push_back(run_batch_row(unbounded_ctx, unbounded));
+	if (options.run_batch) report.rows.back().assigned_ids = decided;
 	if (options.run_batch) done();
-	if (options.run_causal) report.rows.push_back(run_causal_row(ctx, unbounded));
+	if (options.run_causal) report.rows.push_back(run_causal_row(unbounded_ctx, unbounded));
+	if (options.run_causal) report.rows.back().assigned_ids = decided;
 	name_ekf_files(report, options.ekf_methods.size());
 	add_reading_notes(report);
 	return report;
@@ -169,15 +265,18 @@ bool every_estimator_failed(const RunReport& report)
 	return !report.rows.empty();
 }
 
-RunReport run_app(const RunOptions& options, std::ostream& out, std::ostream& log,
+RunReport run_app(const RunOptions& given, std::ostream& out, std::ostream& log,
 				  const std::function<bool()>& stop_requested)
 {
-	if (options.rawlog.empty()) throw std::invalid_argument("no rawlog given");
-	options.validate();
+	if (given.rawlog.empty()) throw std::invalid_argument("no rawlog given");
+	given.validate();
 
 	io::RawlogReaderOptions ro;
-	ro.max_steps = options.max_steps;
-	const io::Rawlog rawlog = io::read_rawlog(options.rawlog, ro);
+	ro.max_steps = given.max_steps;
+	ro.require_landmark_ids = given.window.association == estimators::DataAssociation::Ids;
+	const io::Rawlog rawlog = io::read_rawlog(given.rawlog, ro);
+	RunOptions options = given;
+	options.window.association = resolve_association(given.window.association, rawlog);
 
 	std::string gt_path = options.ground_truth;
 	if (gt_path.empty())
@@ -207,6 +306,8 @@ RunReport run_app(const RunOptions& options, std::ostream& out, std::ostream& lo
 	};
 	RunReport report = run_estimators(options, rawlog, gt, log, control);
 	report.ground_truth = gt_path;
+	if (options.window.association != estimators::DataAssociation::Ids)
+		add_association_quality(report, rawlog, options, gt, log);
 	write_run_outputs(options, gt, report);
 	out << format_comparison_table(report) << std::flush;
 	for (const auto& note : report.notes) log << "note: " << note << "\n";

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <swba/apps/run_options.h>
+#include <swba/estimators/association_quality.h>
 #include <swba/estimators/sliding_window.h>
 #include <swba/eval/metrics.h>
 #include <swba/eval/trajectory.h>
@@ -69,6 +70,12 @@ struct RunRow
 	/** Window rows: what each process() call did (solve/marginalisation time, state size), for
 	 * benchmarks. Empty for other rows. */
 	std::vector<estimators::StepSummary> step_summaries;
+	/** Window rows (and the batch, which takes them from the last window run): the landmark ID each
+	 * reading of each step was given (estimators::SlidingWindowEstimator::assigned_ids). */
+	estimators::ReadingIds assigned_ids;
+	/** Rows with assigned_ids, when the run uses data association and the truth is known (the
+	 * readings' own IDs, or the simulator's landmark ground truth): how right it was. */
+	std::optional<estimators::AssociationQuality> association;
 
 	bool failed = false;
 	std::size_t failed_step = 0;  ///< the step k whose processing threw

@@ -39,6 +39,9 @@ struct EkfSlamOptions
 	/** Additional std of z in the motion model, metres (MRPT's std_odo_z_additional). Unset: the INI's,
 	 * else MRPT's default 0. */
 	std::optional<double> std_odo_z_additional_m;
+	/** MRPT's data association for readings without a landmark ID: "nn" (assocNN) or "jcbb"
+	 * (assocJCBB), Mahalanobis metric. Unset: the INI's if given, else MRPT's default (nn). */
+	std::optional<std::string> data_association;
 	/** Which filter: Spatial = CRangeBearingKFSLAM, Planar = CRangeBearingKFSLAM2D (which has no pitch
 	 * noise and no z motion noise: std_pitch and std_odo_z_additional_m are then not used, and noted).
 	 * Default Auto: Planar when io::is_planar(steps). */

@@ -20,6 +20,7 @@
 #include <swba/core/names.h>
 #include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
+#include <swba/estimators/data_association.h>
 #include <swba/estimators/pose_model.h>
 #include <swba/estimators/sensor_noise.h>
 #include <swba/nonlinear/gauge.h>
@@ -132,6 +133,11 @@ struct SlidingWindowOptions
 	 * when it leaves), the batch at its solution, both for the final landmarks. Cost and gauge:
 	 * doc/window.md, "Covariances". Default true. */
 	bool covariances = true;
+	/** Which landmark each reading comes from (doc/association.md): its own ID, or data association
+	 * against the window's estimate, gated at gate_probability. Default Auto: the readings' IDs when
+	 * the first step with readings has an ID for each, else Jcbb. The batch uses the IDs it is given
+	 * (swba run gives it the window's decisions). */
+	DataAssociation association = DataAssociation::Auto;
 
 	/** The χ² bound of the gate for readings of `dof` rows (reading_dof of the model). */
 	double gate_threshold(int dof) const;
@@ -241,6 +247,9 @@ class SlidingWindowEstimator
 	 * factorisation of the window's whole system, prior-only landmarks included). */
 	std::map<std::int32_t, LandmarkEstimate> landmark_estimates();
 	const std::vector<StepSummary>& step_summaries() const;
+	/** The landmark ID each reading of step k was given (data association, or the reading's own ID):
+	 * assigned_ids()[k] in the order of that step's readings (empty for a step without readings). */
+	std::vector<std::vector<std::int32_t>> assigned_ids() const;
 	/** Totals over the steps so far (readings still held in the window count as excluded after finish()). */
 	ReadingCounts reading_counts() const;
 	const SlidingWindowOptions& options() const;

@@ -145,7 +145,7 @@ struct Rawlog
 	std::size_t steps_without_observation = 0;
 	std::size_t readings = 0;  ///< valid readings kept
 	std::size_t skipped_readings = 0;  ///< invalid readings dropped (NaN / ≤ 0 range, bad angles, id < 0)
-	std::size_t distinct_landmarks = 0;	 ///< distinct landmark IDs among the valid readings
+	std::size_t distinct_landmarks = 0;	 ///< distinct landmark IDs (≥ 0) among the valid readings
 	bool truncated = false;	 ///< only with RawlogReaderOptions::allow_truncated
 	std::size_t warning_count = 0;
 	std::vector<std::string> warnings;	///< the first max_warning_texts warnings, one line each
