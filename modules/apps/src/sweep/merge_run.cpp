@@ -285,7 +285,8 @@ RunMerge merge_run_sweep(const SweepPlan& plan, const MergeOptions& options, std
 		for (const auto& [name, content] : {std::make_pair("ape_across_rawlogs.txt", text),
 											std::make_pair("ape_across_rawlogs.csv", format_across_csv(across))})
 		{
-			write_file_atomically(out_dir + "/" + name, [&](std::ostream& f) { f << content; });
+			const std::string& body = content;  // a structured binding cannot be captured before C++20 (clang)
+			write_file_atomically(out_dir + "/" + name, [&](std::ostream& f) { f << body; });
 			result.files.push_back(out_dir + "/" + name);
 		}
 	}
