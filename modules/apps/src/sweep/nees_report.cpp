@@ -174,7 +174,8 @@ NeesReport merge_nees_sweep(const SweepPlan& plan, const MergeOptions& options, 
 	const std::string table = format_nees_table(report);
 	for (const auto& [name, text] : {std::make_pair("nees.txt", table), std::make_pair("nees.csv", format_nees_csv(report))})
 	{
-		write_file_atomically(dir + "/" + name, [&](std::ostream& f) { f << text; });
+		const std::string& body = text;  // a structured binding cannot be captured before C++20 (clang)
+		write_file_atomically(dir + "/" + name, [&](std::ostream& f) { f << body; });
 		report.files.push_back(dir + "/" + name);
 	}
 	if (options.plots)
