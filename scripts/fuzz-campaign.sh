@@ -84,7 +84,11 @@ for r in "${readers[@]}"; do
 			grep -m1 -E 'libmrpt|/modules/|/fuzz/fuzz_' || true)
 		module=$(grep -oE 'libmrpt[^+ )]*' <<<"$frame" | head -n 1 || true)
 		where="${module:+$module: }$(sed -E 's/^ +#[0-9]+ 0x[0-9a-f]+ in //' <<<"$frame" | cut -c1-110)"
-		if [ "$r" = rawlog ] && [ "$asan" = 1 ] && [ -n "$module" ] &&
+		# (MRPT's float vectors allocate through mrpt::aligned_malloc, which swba interposes, so that
+		# frame is MRPT's too; an RSS-limit report carries no allocation stack at all.)
+		mrpt_frame=$([ -n "$module" ] || grep -q 'mrpt::aligned_malloc' <<<"$frame" && echo 1 || true)
+		rss_only=$(grep -qE 'libFuzzer: out-of-memory \(used: ' <<<"$what" && [ -z "$frame" ] && echo 1 || true)
+		if [ "$r" = rawlog ] && [ "$asan" = 1 ] && [ -n "$mrpt_frame$rss_only" ] &&
 			grep -qiE 'out-of-memory|out of memory|malloc limit|rss limit|timeout|allocation-size-too-big' <<<"$what$out"; then
 			known=$((known + 1))
 			echo "  known (MRPT, no budget under ASan) $f: $what | $where"
