@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # swba developer entry point: installs missing Debian packages, configures, builds, then
 #   ./dev.sh run [swba run options]   run the main job (swba run on the default rawlog)
-#   ./dev.sh test                     the whole suite (what CI runs): test-release, test-asan, fuzz-smoke
+#   ./dev.sh test                     the whole suite (what CI runs): test-asan, fuzz-smoke, test-budget
 #   ./dev.sh test-release             the suite through ctest on the Release build (build/)
 #   ./dev.sh test-asan                the suite under -fsanitize=address,undefined with leak detection
-#                                     (build-asan/; suppressions: tests/lsan.supp)
-#   ./dev.sh fuzz-smoke               every libFuzzer harness for SWBA_FUZZ_SMOKE_SECONDS (default 10)
-#                                     (build-fuzz/, clang; doc/fuzzing.md)
+#                                     (build-asan/: clang, unity build, also the libFuzzer harnesses;
+#                                     suppressions: tests/lsan.supp)
+#   ./dev.sh fuzz-smoke               every libFuzzer harness of build-asan/ for SWBA_FUZZ_SMOKE_SECONDS
+#                                     (default 5; doc/fuzzing.md)
+#   ./dev.sh test-budget              the memory-budget tests, which need a build without ASan (build/)
 #   ./dev.sh build                    only install dependencies and build
 #   ./dev.sh swba <command> [...]     build, then run any swba subcommand
 set -euo pipefail
@@ -18,30 +20,48 @@ mode=${1:-run}
 ./scripts/install-deps.sh
 
 jobs=$(nproc 2>/dev/null || echo 2)
-build() {  # build <dir> [--target T] <extra cmake args...>
+build() {  # build <dir> [--target T]... [extra cmake args...]
 	local dir=$1
 	shift
-	local target=()
-	if [ "${1:-}" = "--target" ]; then
-		target=(--target "$2")
+	local targets=()
+	while [ "${1:-}" = "--target" ]; do
+		targets+=(--target "$2")
 		shift 2
-	fi
+	done
 	cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DSWBA_WERROR=ON "$@" >/dev/null
-	cmake --build "$dir" -j "$jobs" "${target[@]}"
+	cmake --build "$dir" -j "$jobs" "${targets[@]}"
 }
 
-# Extra arguments of `test` go to ctest in both suites.
+# The sanitizer build: clang (UBSan's checks differ from GCC's; it compiles the sanitized code about
+# twice as fast), a unity build (the MRPT/Eigen headers parsed once per batch of sources), line tables
+# for the reports, and the libFuzzer harnesses with coverage of the readers' modules (the smoke's).
+build_asan() {
+	if [ -f build-asan/CMakeCache.txt ] && ! grep -q "^CMAKE_CXX_COMPILER:.*clang" build-asan/CMakeCache.txt; then
+		rm -rf build-asan  # configured with another compiler by an older dev.sh
+	fi
+	CC=clang-14 CXX=clang++-14 build build-asan -DCMAKE_CXX_FLAGS=-gline-tables-only -DCMAKE_UNITY_BUILD=ON \
+		-DSWBA_SANITIZE=ON -DSWBA_FUZZ=ON "-DSWBA_FUZZ_COVERAGE=core;io;eval;apps" -DSWBA_BUILD_BENCH=OFF
+}
+
+# Extra arguments of `test` go to ctest in the sanitizer suite.
 test_release() {
 	build build
 	ctest --test-dir build --output-on-failure -j "$jobs" "$@"
 }
 test_asan() {
-	build build-asan -DSWBA_SANITIZE=ON -DSWBA_BUILD_BENCH=OFF
+	build_asan
 	ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0" \
 		ctest --test-dir build-asan --output-on-failure -j "$jobs" "$@"
 }
 fuzz_smoke() {
-	FUZZ_BUILD_JOBS=$jobs scripts/fuzz-campaign.sh "${SWBA_FUZZ_SMOKE_SECONDS:-10}"
+	[ -x build-asan/fuzz/swba_fuzz_rawlog ] || build_asan
+	FUZZ_NO_BUILD=1 FUZZ_BUILD_DIR=build-asan scripts/fuzz-campaign.sh "${SWBA_FUZZ_SMOKE_SECONDS:-5}"
+}
+# ASan reserves terabytes of address space, so read_rawlog's memory budget (an RLIMIT_AS cap) cannot be
+# tested in build-asan/, where those tests skip themselves; they run here, in the Release build.
+test_budget() {
+	build build --target swba_test_core --target swba_test_rawlog
+	ctest --test-dir build --output-on-failure -j "$jobs" -R 'MemoryBudget'
 }
 stage() {  # stage <name> <function> [args...]: runs it and prints its wall time
 	local name=$1 t0
@@ -59,9 +79,9 @@ run)
 	;;
 test)
 	t_all=$(date +%s)
-	stage "release suite" test_release "$@"
 	stage "sanitizer suite" test_asan "$@"
 	stage "fuzz smoke" fuzz_smoke
+	stage "memory-budget tests (Release)" test_budget
 	echo "== dev.sh: all passed in $(($(date +%s) - t_all)) s" >&2
 	;;
 test-release)
@@ -73,6 +93,9 @@ test-asan)
 fuzz-smoke)
 	fuzz_smoke
 	;;
+test-budget)
+	test_budget
+	;;
 build)
 	build build
 	;;
@@ -81,7 +104,7 @@ swba)
 	exec ./build/apps/swba/swba "$@"
 	;;
 *)
-	echo "usage: ./dev.sh run|test|test-release|test-asan|fuzz-smoke|build|swba <command> [...]" >&2
+	echo "usage: ./dev.sh run|test|test-release|test-asan|fuzz-smoke|test-budget|build|swba <command> [...]" >&2
 	exit 2
 	;;
 esac

@@ -17,12 +17,18 @@ if(SWBA_SANITIZE)
   target_link_options(swba_build_flags INTERFACE -fsanitize=${SWBA_SANITIZERS})
 endif()
 # A fuzzing build (clang, SWBA_FUZZ and SWBA_SANITIZE, see fuzz/CMakeLists.txt) gives libFuzzer the
-# coverage of swba's own code: every target gets the coverage instrumentation (fuzzer-no-link), whose
-# callbacks the sanitizer runtime already linked into every executable provides.
+# coverage of swba's own code: the coverage instrumentation (fuzzer-no-link), whose callbacks the
+# sanitizer runtime already linked into every executable provides, on every target (SWBA_FUZZ_COVERAGE
+# "all", a campaign's build) or only on the listed modules (the readers' modules: the sanitizer suite's
+# build, which also runs the fuzz smoke, keeps the estimator core free of its cost).
+set(SWBA_FUZZ_COVERAGE "all" CACHE STRING
+  "Targets with libFuzzer coverage in a fuzzing build: \"all\" or a list of modules (e.g. core;io;eval;apps)")
 set(SWBA_FUZZ_INSTRUMENT OFF)
 if(SWBA_FUZZ AND SWBA_SANITIZE AND CMAKE_CXX_COMPILER_ID MATCHES "Clang")
   set(SWBA_FUZZ_INSTRUMENT ON)
-  target_compile_options(swba_build_flags INTERFACE -fsanitize=fuzzer-no-link)
+  if(SWBA_FUZZ_COVERAGE STREQUAL "all")
+    target_compile_options(swba_build_flags INTERFACE -fsanitize=fuzzer-no-link)
+  endif()
 endif()
 
 # swba_add_module(<name> DEPS <targets...> PRIVATE_DEPS <targets...>)
@@ -47,6 +53,9 @@ function(swba_add_module name)
   target_compile_features(swba_${name} PUBLIC cxx_std_17)
   target_link_libraries(swba_${name} PUBLIC ${ARG_DEPS}
     PRIVATE $<BUILD_INTERFACE:swba_build_flags> ${ARG_PRIVATE_DEPS})
+  if(SWBA_FUZZ_INSTRUMENT AND NOT SWBA_FUZZ_COVERAGE STREQUAL "all" AND name IN_LIST SWBA_FUZZ_COVERAGE)
+    target_compile_options(swba_${name} PRIVATE -fsanitize=fuzzer-no-link)
+  endif()
   if(SWBA_SANITIZE)  # objects built with sanitizers need the runtime at the user's link step
     target_link_options(swba_${name} INTERFACE $<INSTALL_INTERFACE:-fsanitize=${SWBA_SANITIZERS}>)
   endif()

@@ -13,7 +13,9 @@
 # fuzz/regressions/<reader>/, which are only read); failing inputs land in build-fuzz/findings/<reader>/.
 # Prints per harness: executions, exec/s, coverage, findings; exit status 1 if any harness had a finding.
 # Environment: FUZZ_EXTRA_ARGS (more libFuzzer flags), FUZZ_BUILD_JOBS (default 2), FUZZ_NO_BUILD=1
-# (run the binaries already in build-fuzz/ without configuring or building), FUZZ_SANITIZERS (default
+# (run the binaries already built without configuring or building), FUZZ_BUILD_DIR (the build tree, default
+# build-fuzz/; ./dev.sh's smoke uses build-asan/, whose harnesses have coverage of the readers' modules
+# only), FUZZ_SANITIZERS (default
 # address,undefined; "undefined" builds build-fuzz-undefined/, where read_rawlog's memory budget is
 # active — ASan's allocator aborts on the failed allocations the budget relies on — so MRPT's
 # corrupt-length inputs are rejected like in a release build instead of being out-of-memory findings).
@@ -28,6 +30,7 @@ readers=("$@")
 sanitizers=${FUZZ_SANITIZERS:-address,undefined}
 build=build-fuzz
 [ "$sanitizers" != address,undefined ] && build=build-fuzz-${sanitizers//,/-}
+build=${FUZZ_BUILD_DIR:-$build}
 asan=0
 [[ ",$sanitizers," == *,address,* ]] && asan=1
 if [ -z "${FUZZ_NO_BUILD:-}" ]; then

@@ -11,6 +11,7 @@
 
 #include <cstdio>
 #include <iostream>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -67,6 +68,8 @@ bool OnlineSlamApp::initialize(int argc, char** argv)
 	TCLAP::ValueArg<int> print_every_arg("", "print-every", "a progress line every N steps (0 = none). (Default: 100)", false, 100,
 										 "N", cmd);
 	ThrowingOutput out;  // a parse error becomes std::invalid_argument (main prints it, exits 1)
+	// TCLAP's setOutput() forgets, without deleting it, the output object the CmdLine allocated: own it.
+	const std::unique_ptr<TCLAP::CmdLineOutput> tclap_default_output(cmd.getOutput());
 	cmd.setOutput(&out);
 	const bool go_on = cmd.parse(argc, argv);
 	cmd.setOutput(nullptr);

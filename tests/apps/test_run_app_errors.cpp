@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_temp_dir.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -21,14 +23,6 @@ namespace
 namespace fs = std::filesystem;
 using swba::apps::RunOptions;
 
-fs::path temp_dir()
-{
-	const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-	fs::path d = fs::temp_directory_path() / (std::string("swba_runapp_") + info->test_suite_name() + "_" + info->name());
-	fs::remove_all(d);
-	fs::create_directories(d);
-	return d;
-}
 
 /** A small rawlog SF0, AC0, SF1, ...: the robot moves 0.3 m forward per step (noise-free) and sees 4
  * fixed landmarks ahead of it; `nan_reading_step` ≥ 0 gives one reading of that frame a NaN range. */

@@ -3,6 +3,8 @@
 #include <swba/eval/ground_truth.h>
 
 #include <gtest/gtest.h>
+
+#include "test_temp_dir.h"
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -20,14 +22,6 @@ using mrpt::poses::CPose3D;
 using swba::apps::RunReport;
 using swba::apps::RunRow;
 
-fs::path temp_dir()
-{
-	const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-	fs::path d = fs::temp_directory_path() / (std::string("swba_runapp_") + info->test_suite_name() + "_" + info->name());
-	fs::remove_all(d);
-	fs::create_directories(d);
-	return d;
-}
 
 std::vector<CPose3D> random_path(std::size_t n, unsigned seed)
 {

@@ -12,7 +12,7 @@ namespace fs = std::filesystem;
 
 namespace
 {
-std::string fresh_dir(const std::string& name)
+std::string metric_dir(const std::string& name)
 {
 	const fs::path p = fs::temp_directory_path() / ("swba_test_trajectory_metric_" + name);
 	fs::remove_all(p);
@@ -22,7 +22,7 @@ std::string fresh_dir(const std::string& name)
 
 TEST(App, RunEvaluationPrintsTheTextBlockAndSaves)
 {
-	const std::string dir = fresh_dir("app");
+	const std::string dir = metric_dir("app");
 	TrajectoryMetricOptions c;
 	c.ref_path = std::string(SWBA_DATA_DIR) + "/evo_reference/gt_kf-slam_6D_demo.tum";
 	c.est_path = std::string(SWBA_DATA_DIR) + "/evo_reference/ekf_kf-slam_6D_demo.tum";

@@ -1,6 +1,8 @@
 // BAL reader/writer: the shipped Ladybug problem (sizes, behind-camera count, Ceres's initial cost),
 // an exact write/read round trip, and each malformed case rejected with its line number.
 #include <gtest/gtest.h>
+
+#include "bal_test_data.h"
 #include <swba/io/bal.h>
 #include <swba/problems/bal.h>
 
@@ -12,7 +14,6 @@
 namespace
 {
 const std::string kLadybug = std::string(SWBA_DATA_DIR) + "/bal/problem-49-7776-pre.txt";
-const std::string kShrink = std::string(SWBA_DATA_DIR) + "/bal/bal-ladybug-problem-49-7776-pre-shrink-1800.txt";
 
 // A valid 2-camera, 2-point, 3-observation problem; parameters one per line
 // (cameras on lines 5..22, points on lines 23..28).

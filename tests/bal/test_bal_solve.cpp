@@ -2,6 +2,8 @@
 // equations built here from the factors' Jacobians; short solves agree across linear solvers and
 // thread counts.
 #include <gtest/gtest.h>
+
+#include "bal_test_data.h"
 #include <swba/factors/snavely_reprojection.h>
 #include <swba/io/bal.h>
 #include <swba/problems/bal.h>
@@ -14,7 +16,6 @@
 
 namespace
 {
-const std::string kShrink = std::string(SWBA_DATA_DIR) + "/bal/bal-ladybug-problem-49-7776-pre-shrink-1800.txt";
 
 /** Full normal equations H = JᵀJ, g = Jᵀr over [cameras (9 each); points (3 each)], built densely
  * from the Snavely factors' analytic Jacobians. */

@@ -73,6 +73,7 @@ foreach(_entry ${_swba_module_dirs})
   endforeach()
   if(_tus)
     add_library(swba_header_check_${_module} OBJECT ${_tus})
+    set_target_properties(swba_header_check_${_module} PROPERTIES UNITY_BUILD OFF)  # one header per TU
     target_link_libraries(swba_header_check_${_module} PRIVATE swba::${_module} swba_build_flags)
     add_dependencies(swba_header_check swba_header_check_${_module})
   endif()

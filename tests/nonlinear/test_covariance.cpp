@@ -1,6 +1,8 @@
 // Covariance recovery (swba/nonlinear/covariance.h) against the dense inverse of the same normal
 // equations, for every linear solver, in a solve and afterwards, and in the minimum-norm gauge.
 #include <gtest/gtest.h>
+
+#include "random_draws.h"
 #include <swba/core/lie.h>
 #include <swba/nonlinear/covariance.h>
 #include <swba/nonlinear/linearization.h>
@@ -37,7 +39,7 @@ class SeenPoint final : public Factor
 	Eigen::Vector3d z_;
 };
 
-struct Scene
+struct CovarianceScene
 {
 	Problem problem;
 	std::vector<VariableId> poses, points;
@@ -45,21 +47,21 @@ struct Scene
 
 /** 4 poses, 12 points, each point seen by three consecutive poses (so that the reduced system is not
  * full); pose 0 constant unless `free`. */
-Scene make_scene(bool free, unsigned seed = 7)
+CovarianceScene make_covariance_scene(bool free, unsigned seed = 7)
 {
 	std::mt19937 rng(seed);
 	std::normal_distribution<double> N(0, 1);
-	Scene s;
+	CovarianceScene s;
 	for (int i = 0; i < 4; i++)
 		s.poses.push_back(s.problem.add_pose(mrpt::poses::CPose3D(0.5 * i, 0.1 * i, 0.05 * i, 0.3 * i, -0.05 * i, 0.02 * i)));
 	for (int j = 0; j < 12; j++)
-		s.points.push_back(s.problem.add_variable(Eigen::Vector3d(3 + N(rng), N(rng), N(rng)), euclidean_manifold(3),
+		s.points.push_back(s.problem.add_variable((Eigen::Vector3d(3, 0, 0) + normal3(N, rng)), euclidean_manifold(3),
 												  Group::Eliminable));
 	for (int i = 0; i < 4; i++)
 		for (int j = 0; j < 12; j++)
 		{
 			if ((j + i) % 4 == 0) continue;
-			auto f = std::make_shared<SeenPoint>(Eigen::Vector3d(3 + N(rng), N(rng), N(rng)));
+			auto f = std::make_shared<SeenPoint>((Eigen::Vector3d(3, 0, 0) + normal3(N, rng)));
 			f->set_sigma(0.1 + 0.01 * j);
 			s.problem.add_factor(f, {s.poses[i], s.points[j]});
 		}
@@ -87,7 +89,7 @@ struct Dense
 	}
 };
 
-Dense dense_inverse(const Scene& s, bool pseudo)
+Dense dense_inverse(const CovarianceScene& s, bool pseudo)
 {
 	Dense d;
 	for (const auto& [v, var] : s.problem.variables())
@@ -110,7 +112,7 @@ double relative_error(const Eigen::MatrixXd& got, const Eigen::MatrixXd& want)
 	return (got - want).norm() / want.norm();
 }
 
-CovarianceRequest some_groups(const Scene& s)
+CovarianceRequest some_groups(const CovarianceScene& s)
 {
 	CovarianceRequest r;
 	r.groups = {{s.poses[3]}, {s.points[5]}, {s.poses[1], s.points[2], s.poses[0]}, {s.points[0], s.points[11]}};
@@ -123,7 +125,7 @@ TEST(Covariance, BlocksEqualTheDenseInverseForEveryLinearSolver)
 	for (auto type : {LinearSolverType::DenseSchur, LinearSolverType::SparseSchur, LinearSolverType::DenseNormal,
 					  LinearSolverType::SparseNormal})
 	{
-		Scene s = make_scene(false);
+		CovarianceScene s = make_covariance_scene(false);
 		SolverOptions o;
 		o.linear_solver = type;
 		const CovarianceRequest req = some_groups(s);
@@ -147,7 +149,7 @@ TEST(Covariance, BlocksEqualTheDenseInverseForEveryLinearSolver)
 
 TEST(Covariance, ASolveRecoversThemAtItsSolutionFromItsLastLinearisation)
 {
-	Scene s = make_scene(false);
+	CovarianceScene s = make_covariance_scene(false);
 	SolverOptions o;
 	o.function_tolerance = 1e-14;
 	const CovarianceRequest req = some_groups(s);
@@ -162,7 +164,7 @@ TEST(Covariance, ASolveRecoversThemAtItsSolutionFromItsLastLinearisation)
 
 TEST(Covariance, SingularSystemIsReportedNotInverted)
 {
-	Scene s = make_scene(true);
+	CovarianceScene s = make_covariance_scene(true);
 	const CovarianceResult c = marginal_covariance(s.problem, some_groups(s));
 	EXPECT_FALSE(c.ok);
 	EXPECT_TRUE(c.blocks.empty());
@@ -170,7 +172,7 @@ TEST(Covariance, SingularSystemIsReportedNotInverted)
 
 TEST(Covariance, MinimumNormGaugeEqualsThePseudoInverse)
 {
-	Scene s = make_scene(true);
+	CovarianceScene s = make_covariance_scene(true);
 	const Dense d = dense_inverse(s, true);  // H⁺ of the free problem
 	CovarianceRequest req = some_groups(s);
 	// The six global motions p ↦ p + u + w × p in each variable's tangent coordinates.
@@ -192,7 +194,7 @@ TEST(Covariance, MinimumNormGaugeEqualsThePseudoInverse)
 	}
 	for (int held : {0, 2})  // any held pose gives the same minimum-norm covariance
 	{
-		Scene h = s;
+		CovarianceScene h = s;
 		h.problem.set_constant(h.poses[held]);
 		const CovarianceResult c = marginal_covariance(h.problem, req);
 		ASSERT_TRUE(c.ok) << c.message;

@@ -1,5 +1,7 @@
 // Solver tests on a small SE(3) + point problem with a test-local factor (pose ⊖ point observation).
 #include <gtest/gtest.h>
+
+#include "random_draws.h"
 #include <swba/core/numeric_diff.h>
 #include <swba/nonlinear/linearization.h>
 #include <swba/nonlinear/solver.h>
@@ -69,17 +71,17 @@ Scene make_scene(double meas_noise, double init_noise, unsigned seed = 42, int n
 	Scene s;
 	for (int i = 0; i < 5; i++)
 		s.true_poses.emplace_back(0.5 * i, 0.1 * i, 0.05 * i, 0.1 * i, -0.05 * i, 0.02 * i);
-	for (int j = 0; j < num_points; j++) s.true_points.emplace_back(3 + N(rng), N(rng), N(rng));
+	for (int j = 0; j < num_points; j++) s.true_points.push_back(Eigen::Vector3d(3, 0, 0) + normal3(N, rng));
 	for (const auto& P : s.true_poses)
 	{
-		const mrpt::poses::CPose3D noisy =
-			P + mrpt::poses::CPose3D(init_noise * N(rng), init_noise * N(rng), init_noise * N(rng),
-									 init_noise * N(rng), init_noise * N(rng), init_noise * N(rng));
+		const Eigen::Vector3d da = init_noise * normal3(N, rng);  // (roll, pitch, yaw drawn first)
+		const Eigen::Vector3d dt = init_noise * normal3(N, rng);
+		const mrpt::poses::CPose3D noisy = P + mrpt::poses::CPose3D(dt.x(), dt.y(), dt.z(), da.x(), da.y(), da.z());
 		s.poses.push_back(s.problem.add_pose(noisy));
 	}
 	for (const auto& p : s.true_points)
 	{
-		const Eigen::Vector3d noisy = p + init_noise * Eigen::Vector3d(N(rng), N(rng), N(rng));
+		const Eigen::Vector3d noisy = p + init_noise * normal3(N, rng);
 		s.points.push_back(s.problem.add_variable(noisy, euclidean_manifold(3), Group::Eliminable));
 	}
 	for (size_t i = 0; i < s.poses.size(); i++)
@@ -89,7 +91,7 @@ Scene make_scene(double meas_noise, double init_noise, unsigned seed = 42, int n
 			s.true_poses[i].inverseComposePoint(s.true_points[j].x(), s.true_points[j].y(), s.true_points[j].z(),
 												l[0], l[1], l[2]);
 			const Eigen::Vector3d z =
-				Eigen::Vector3d(l[0], l[1], l[2]) + meas_noise * Eigen::Vector3d(N(rng), N(rng), N(rng));
+				Eigen::Vector3d(l[0], l[1], l[2]) + meas_noise * normal3(N, rng);
 			auto f = std::make_shared<PointInFrameFactor>(z);
 			f->set_sigma(0.05);
 			s.problem.add_factor(f, {s.poses[i], s.points[j]});

@@ -102,7 +102,7 @@ double mean_rotation_error(const PoseGraph& est, const PoseGraph& truth)
 	return sum / truth.vertices3.size();
 }
 
-swba::SolverOptions tight_options()
+swba::SolverOptions tight_pgo_options()
 {
 	swba::SolverOptions o = pose_graph_solver_options();  // as swba pgo, with tight tolerances
 	o.function_tolerance = 1e-15;
@@ -117,7 +117,7 @@ double solve_from(PoseGraph g, PoseGraphInit init)
 	init_options.method = init;
 	initialize_pose_graph(g, init_options);
 	auto pp = build_pose_graph_problem(g);
-	const auto summary = swba::solve(pp.problem, tight_options());
+	const auto summary = swba::solve(pp.problem, tight_pgo_options());
 	EXPECT_TRUE(summary.is_solution_usable()) << summary.message;
 	update_pose_graph(g, pp);
 	return pose_graph_cost(g);
@@ -358,7 +358,7 @@ TEST(PgoInit, DisconnectedGraphAndIsolatedVertexAreAnchoredAtTheirLowestId)
 		}
 		// The whole pipeline runs; LM's damping carries the extra gauge freedom of component B.
 		auto pp = build_pose_graph_problem(h);
-		const auto summary = swba::solve(pp.problem, tight_options());
+		const auto summary = swba::solve(pp.problem, tight_pgo_options());
 		EXPECT_TRUE(summary.is_solution_usable()) << summary.message;
 	}
 }

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "rawlog_test_data.h"
+
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
@@ -16,7 +18,6 @@
 
 namespace
 {
-const std::string kDatasets = SWBA_MRPT_DATASETS;
 const std::string kIni6D = "/usr/share/mrpt/config_files/kf-slam/EKF-SLAM_6D_test.ini";
 
 struct TumRow

@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "rawlog_test_data.h"
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -25,7 +27,6 @@ namespace fs = std::filesystem;
 using swba::io::RawlogReaderOptions;
 using swba::io::read_rawlog;
 
-const std::string kDatasets = SWBA_MRPT_DATASETS;
 
 /** The poses of an MRPT ground-truth robot path (row i = true pose at SF_i). */
 std::vector<mrpt::poses::CPose3D> ground_truth_poses(const std::string& path)

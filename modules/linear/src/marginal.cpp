@@ -163,7 +163,8 @@ void square_root_form(MarginalizationResult& m, double rel_threshold, double sca
 	// and Jᵀe = −b* on the kept coordinates, e = −L₁₁⁻¹ (Pᵀ b*)₁.
 	m.J.setZero(c.rank, n);
 	Eigen::VectorXd pb(c.rank);
-	for (int i = 0; i < n; i++) m.J.col(c.perm[i]) = c.L.row(i).head(c.rank).transpose();
+	if (c.rank > 0)  // (a row of an n×0 L would offset its null data pointer)
+		for (int i = 0; i < n; i++) m.J.col(c.perm[i]) = c.L.row(i).head(c.rank).transpose();
 	for (int i = 0; i < c.rank; i++) pb[i] = m.b[c.perm[i]];
 	m.e = -(c.L.topLeftCorner(c.rank, c.rank).triangularView<Eigen::Lower>().solve(pb));
 	// The prior is the truncated quadratic ½‖e + J δ‖²: H and b are replaced by JᵀJ and −Jᵀe, so every

@@ -1,6 +1,7 @@
 // Direct (photometric) bundle adjustment: the problem, its statistics, the motion of the variables,
 // the errors against ground truth and the reports (see directba.h and doc/directba.md).
 #include <swba/apps/directba.h>
+#include "../report_helpers.h"
 #include <swba/core/manifold.h>
 
 #include <Eigen/Geometry>
@@ -11,15 +12,10 @@
 
 namespace swba::apps
 {
+using detail::rotation_angle_deg;
+
 namespace
 {
-double rotation_angle_deg(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b)
-{
-	const Eigen::Matrix3d dR = a.getRotationMatrix().asEigen().transpose() * b.getRotationMatrix().asEigen();
-	const double c = std::clamp((dR.trace() - 1.0) * 0.5, -1.0, 1.0);
-	return std::acos(c) * 180.0 / 3.14159265358979323846;
-}
-
 Eigen::Vector3d centre(const mrpt::poses::CPose3D& p) { return Eigen::Vector3d(p.x(), p.y(), p.z()); }
 
 double median(std::vector<double> v)

@@ -1,6 +1,7 @@
 // Monocular inverse-depth bundle adjustment on a synthetic scene: the problem with its gauge, the
 // errors against ground truth and the report (see monoba.h and doc/monoba.md).
 #include <swba/apps/monoba.h>
+#include "../report_helpers.h"
 
 #include <swba/core/manifold.h>
 #include <swba/eval/alignment.h>
@@ -17,22 +18,11 @@ namespace swba::apps
 {
 using problems::MonoBAScene;
 
+using detail::fail;
+using detail::rotation_angle_deg;
+
 namespace
 {
-bool fail(std::string* why, const std::string& msg)
-{
-	if (why) *why = msg;
-	return false;
-}
-
-/** Rotation angle of R_aᵀ R_b in degrees. */
-double rotation_angle_deg(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b)
-{
-	const Eigen::Matrix3d E = a.getRotationMatrix().asEigen().transpose() * b.getRotationMatrix().asEigen();
-	const double c = std::clamp((E.trace() - 1.0) / 2.0, -1.0, 1.0);
-	return std::acos(c) * 180.0 / M_PI;
-}
-
 Eigen::Vector3d translation(const mrpt::poses::CPose3D& p) { return Eigen::Vector3d(p.x(), p.y(), p.z()); }
 
 const char* termination_name(TerminationType t)

@@ -1,6 +1,7 @@
 // The prior-weight sweep of monocular bundle adjustment: every gauge and prior weight on the same
 // scenes, averaged over seeds (see monoba.h and doc/monoba.md).
 #include <swba/apps/monoba.h>
+#include "../report_helpers.h"
 
 #include <cmath>
 #include <cstdio>
@@ -9,15 +10,7 @@
 
 namespace swba::apps
 {
-
-namespace
-{
-bool fail(std::string* why, const std::string& msg)
-{
-	if (why) *why = msg;
-	return false;
-}
-}  // namespace
+using detail::fail;
 
 MonoBASweepOptions::MonoBASweepOptions()
 {

@@ -1,0 +1,28 @@
+/** \file report_helpers.h
+ * Private helpers shared by the applications' option checks and reports (monoba, directba). */
+#pragma once
+
+#include <mrpt/poses/CPose3D.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace swba::apps::detail
+{
+/** Stores `msg` in `why` (when given) and returns false: the failure branch of an is_valid(why). */
+inline bool fail(std::string* why, const std::string& msg)
+{
+	if (why) *why = msg;
+	return false;
+}
+
+/** Rotation angle of R_aᵀ R_b in degrees (acos of the clamped trace: the figures the reports print). */
+inline double rotation_angle_deg(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b)
+{
+	const Eigen::Matrix3d E = a.getRotationMatrix().asEigen().transpose() * b.getRotationMatrix().asEigen();
+	const double c = std::clamp((E.trace() - 1.0) * 0.5, -1.0, 1.0);
+	return std::acos(c) * 180.0 / 3.14159265358979323846;
+}
+}  // namespace swba::apps::detail
