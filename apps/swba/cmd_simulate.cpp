@@ -26,13 +26,18 @@ int run_simulate(int argc, char** argv)
 									  "NAME");
 	TCLAP::ValueArg<std::string> out("", "out", "output directory, created (Default: .)", false, ".", "DIR");
 	TCLAP::ValueArg<long> seed("", "seed", "random seed of the simulation, >= 1 (Default: 1)", false, 1, "S");
-	for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&seed, &out, &name}) cmd.add(*a);
+	TCLAP::SwitchArg keep("", "keep-declared-noise",
+						  "keep simul-landmarks' rawlog as written: by default the odometry of its motionless first steps, "
+						  "which it writes without noise, is declared exact instead of with the moving steps' covariance "
+						  "(doc/sweeps.md)");
+	for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&seed, &out, &name, &keep}) cmd.add(*a);
 	if (auto rc = parse_command_line(cmd, argc, argv)) return *rc;
 	apps::SimulateOptions o;
 	o.ini = ini.getValue();
 	o.seed = seed.getValue();
 	o.out_dir = out.getValue();
 	o.name = name.getValue();
+	o.keep_declared_noise = keep.getValue();
 	try
 	{
 		o.validate();

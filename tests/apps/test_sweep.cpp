@@ -6,6 +6,12 @@
 #include <swba/apps/sweep.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
+#include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/obs/CRawlog.h>
+#include <mrpt/obs/CSensoryFrame.h>
 
 #include <filesystem>
 #include <fstream>
@@ -280,5 +286,74 @@ TEST(Simulate, ProgramThatWritesNothingIsAnErrorNamingItsLog)
 	EXPECT_THROW(simulate_rawlog(o, log), std::runtime_error);
 	o.seed = 0;
 	EXPECT_THROW(o.validate(), std::invalid_argument);
+	fs::remove_all(d);
+}
+
+// simul-landmarks' motionless start: an exactly zero increment (3D mean, 2D raw reading) gets a zero
+// covariance; a moving one keeps the declared covariance; observations are untouched.
+TEST(Simulate, UnperturbedOdometryIsDeclaredExactAndNothingElseChanges)
+{
+	using namespace mrpt::obs;
+	using mrpt::poses::CPose2D;
+	using mrpt::poses::CPose3D;
+	const fs::path d = fresh_dir("exact");
+	const std::string path = (d / "sim.rawlog").string();
+	CRawlog log;
+	const auto movement3d = [](const CPose3D& mean) {
+		CActionRobotMovement3D m;
+		m.poseChange.mean = mean;
+		m.poseChange.cov.setIdentity();
+		m.poseChange.cov *= 0.0036;
+		CActionCollection acts;
+		acts.insert(m);
+		return acts;
+	};
+	const auto movement2d = [](const CPose2D& reading) {
+		CActionRobotMovement2D m;
+		m.computeFromOdometry(reading, CActionRobotMovement2D::TMotionModelOptions());
+		CActionCollection acts;
+		acts.insert(m);
+		return acts;
+	};
+	CSensoryFrame sf;
+	auto obs = CObservationBearingRange::Create();
+	obs->sensedData.resize(1);
+	obs->sensedData[0].range = 2.5;
+	sf.insert(obs);
+	log.insert(sf);
+	CActionCollection a0 = movement3d(CPose3D()), a1 = movement3d(CPose3D(0.2, 0, 0, 0.05, 0, 0));
+	CActionCollection a2 = movement2d(CPose2D()), a3 = movement2d(CPose2D(0.2, 0, 0.1));
+	for (auto* a : {&a0, &a1, &a2, &a3})
+	{
+		log.insert(*a);
+		log.insert(sf);
+	}
+	ASSERT_TRUE(log.saveToRawLogFile(path));
+
+	EXPECT_EQ(declare_unperturbed_odometry_exact(path), 2u);
+	CRawlog back;
+	ASSERT_TRUE(back.loadFromRawLogFile(path));
+	ASSERT_EQ(back.size(), log.size());
+	std::vector<mrpt::poses::CPose3DPDFGaussian> moves;
+	for (std::size_t i = 0; i < back.size(); i++)
+		if (back.getType(i) == CRawlog::etActionCollection)
+		{
+			mrpt::poses::CPose3DPDFGaussian g;
+			ASSERT_TRUE(back.getAsAction(i)->getFirstMovementEstimation(g));
+			moves.push_back(g);
+		}
+		else
+		{
+			const auto b = back.getAsObservations(i)->getObservationByClass<CObservationBearingRange>();
+			ASSERT_TRUE(b);
+			EXPECT_EQ(b->sensedData.at(0).range, 2.5f);
+		}
+	ASSERT_EQ(moves.size(), 4u);
+	EXPECT_EQ(moves[0].cov.norm(), 0.0);  // motionless 3D
+	EXPECT_DOUBLE_EQ(moves[1].cov(0, 0), 0.0036);  // moving 3D: as declared
+	EXPECT_NEAR(moves[1].mean.x(), 0.2, 1e-12);
+	EXPECT_EQ(moves[2].cov.norm(), 0.0);  // motionless 2D
+	EXPECT_GT(moves[3].cov(0, 0), 0.0);   // moving 2D: the motion model's covariance
+	EXPECT_EQ(declare_unperturbed_odometry_exact(path), 2u);  // idempotent: the same two, still zero
 	fs::remove_all(d);
 }

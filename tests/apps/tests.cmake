@@ -200,7 +200,11 @@ set_tests_properties(apps.sweep.nees_parallel_equals_sequential PROPERTIES PASS_
 swba_cli_case(jobs_help 0 REGEX "--simulate.*--seeds.*--windows.*--config.*--out.*--swba" ARGS jobs --help)
 swba_cli_case(merge_help 0 REGEX "--out.*--no-plots" ARGS merge --help)
 swba_cli_case(nees_help 0 REGEX "--runs.*--first-seed.*--ini.*--windows.*--fej.*--jobs-only" ARGS nees --help)
-swba_cli_case(simulate_help 0 REGEX "--seed.*--out" ARGS simulate --help)
+swba_cli_case(simulate_help 0 REGEX "--seed.*--out.*--keep-declared-noise" ARGS simulate --help)
+# simul-landmarks' four motionless first steps (zero odometry written without noise) are declared exact.
+swba_cli_case(simulate_declares_motionless_exact 0
+  REGEX "swba simulate: 4 motionless odometry increments \\(written without noise by simul-landmarks\\) declared exact"
+  ARGS simulate ${CMAKE_SOURCE_DIR}/share/rawlogs/kf-slam_6D_noisy.ini --seed 2 --out ${_out}/simulate_exact)
 swba_cli_case(jobs_bad_seeds 2 REGEX "^swba jobs: error: --seeds: range '5-2' is reversed \\(see --help\\)"
   ARGS jobs --simulate ${CMAKE_SOURCE_DIR}/share/rawlogs/kf-slam_6D_noisy.ini --seeds 5-2 --out ${_out}/jobs_bad_seeds)
 swba_cli_case(jobs_no_rawlog 2 REGEX "^swba jobs: error: no rawlog given" ARGS jobs --out ${_out}/jobs_no_rawlog)

@@ -3,6 +3,10 @@
 #include <swba/core/file.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
+#include <mrpt/obs/CRawlog.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -75,12 +79,59 @@ int run_in(const std::string& program, const std::string& ini, const std::string
 	return status;
 }
 
+/** Zero-covariance version of one movement whose increment is exactly zero; false for any other. */
+bool declare_exact(mrpt::obs::CAction& action)
+{
+	if (auto* m3 = dynamic_cast<mrpt::obs::CActionRobotMovement3D*>(&action))
+	{
+		if (m3->poseChange.mean != mrpt::poses::CPose3D()) return false;
+		m3->poseChange.cov.setZero();
+		return true;
+	}
+	if (auto* m2 = dynamic_cast<mrpt::obs::CActionRobotMovement2D*>(&action))
+	{
+		// A 2D odometry movement is stored as its raw reading and motion model, and its Gaussian is
+		// recomputed when read: a zero increment under the Gaussian model has covariance diag(minStdXY²,
+		// minStdXY², minStdPHI²), so those become zero.
+		if (m2->estimationMethod != mrpt::obs::CActionRobotMovement2D::emOdometry ||
+			m2->rawOdometryIncrementReading != mrpt::poses::CPose2D())
+			return false;
+		mrpt::obs::CActionRobotMovement2D::TMotionModelOptions model = m2->motionModelConfiguration;
+		model.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
+		model.gaussianModel.minStdXY = 0;
+		model.gaussianModel.minStdPHI = 0;
+		m2->computeFromOdometry(m2->rawOdometryIncrementReading, model);
+		return true;
+	}
+	return false;
+}
+
 bool non_empty_file(const fs::path& p)
 {
 	std::error_code ec;
 	return fs::is_regular_file(p, ec) && fs::file_size(p, ec) > 0;
 }
 }  // namespace
+
+std::size_t declare_unperturbed_odometry_exact(const std::string& rawlog)
+{
+	mrpt::obs::CRawlog log;
+	if (!log.loadFromRawLogFile(rawlog)) throw std::runtime_error("cannot read rawlog '" + rawlog + "'");
+	std::size_t count = 0;
+	for (std::size_t i = 0; i < log.size(); i++)
+	{
+		if (log.getType(i) != mrpt::obs::CRawlog::etActionCollection) continue;
+		for (auto& action : *log.getAsAction(i))
+			if (action && declare_exact(*action)) count++;
+	}
+	if (count == 0) return 0;
+	const std::string tmp = rawlog + ".exact";
+	if (!log.saveToRawLogFile(tmp)) throw std::runtime_error("cannot write rawlog '" + tmp + "'");
+	std::error_code ec;
+	fs::rename(tmp, rawlog, ec);
+	if (ec) throw std::runtime_error("cannot replace '" + rawlog + "': " + ec.message());
+	return count;
+}
 
 SimulatedRawlog simulate_rawlog(const SimulateOptions& o, std::ostream& log)
 {
@@ -120,11 +171,16 @@ SimulatedRawlog simulate_rawlog(const SimulateOptions& o, std::ostream& log)
 		throw std::runtime_error(o.program + " failed on '" + o.ini + "' (seed " + std::to_string(o.seed) +
 								 "): no rawlog written; see " + out.log);
 	}
+	if (!o.keep_declared_noise) out.exact_increments = declare_unperturbed_odometry_exact(rawlog.string());
 	fs::rename(rawlog, out.rawlog);
 	fs::rename(path, out.ground_truth);
 	if (fs::exists(landmarks)) fs::rename(landmarks, out.landmarks);
 	fs::remove_all(work, ec);
 	log << "swba simulate: wrote " << out.rawlog << " (seed " << o.seed << ")\n";
+	if (out.exact_increments > 0)
+		log << "swba simulate: " << out.exact_increments
+			<< " motionless odometry increments (written without noise by simul-landmarks) declared exact: zero "
+			   "covariance instead of the moving steps' (--keep-declared-noise keeps them)\n";
 	return out;
 }
 }  // namespace swba::apps

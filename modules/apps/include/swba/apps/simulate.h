@@ -6,6 +6,7 @@
  * its outputs are checked, not its exit code. */
 #pragma once
 
+#include <cstddef>
 #include <iosfwd>
 #include <string>
 
@@ -23,6 +24,8 @@ struct SimulateOptions
 	std::string name;
 	/** The simul-landmarks executable: a name looked up on PATH, or a path. (Default = "simul-landmarks") */
 	std::string program = "simul-landmarks";
+	/** Keep simul-landmarks' rawlog as written, without declare_unperturbed_odometry_exact. (Default = false) */
+	bool keep_declared_noise = false;
 
 	/** Throws std::invalid_argument naming the option. */
 	void validate() const;
@@ -38,7 +41,19 @@ struct SimulatedRawlog
 	std::string landmarks;     ///< <out_dir>/<name>_ground_truth.txt
 	std::string ini;           ///< <out_dir>/<name>.ini: the INI simul-landmarks ran with
 	std::string log;           ///< <out_dir>/<name>.simul-landmarks.log: its output
+	/** Odometry increments re-declared exact by declare_unperturbed_odometry_exact. */
+	std::size_t exact_increments = 0;
 };
+
+/** simul-landmarks holds the robot still for its first steps and writes their zero odometry increment
+ * without noise, but declares the covariance of a moving step for it (σ = odometryNoiseXY_std, ...):
+ * the rawlog states noise its data does not have, which makes every estimator's covariance too large
+ * for the rest of the run (the motionless start is where the map is anchored), and NEES too low. This
+ * rewrites `rawlog` with a zero covariance for every odometry increment that is exactly zero (a 3D
+ * movement's mean, or a 2D movement's raw odometry reading; a perturbed increment is never exactly zero)
+ * and leaves everything else as it was. Returns how many were re-declared. Throws std::runtime_error
+ * naming the file when it cannot be read or written. */
+std::size_t declare_unperturbed_odometry_exact(const std::string& rawlog);
 
 /** The INI text of `ini_text` with [Params] random_seed = seed, outFile = <name>.rawlog, outDir = ".",
  * show_in_3d = false. Throws std::runtime_error naming `source` when [Params] has no random_seed. */
