@@ -122,8 +122,10 @@ std::string plot_command(const std::string& dat_name, const LinePlot& plot)
 	for (std::size_t k = 0; k < plot.series.size(); k++)
 	{
 		const auto& s = plot.series[k];
+		// gnuplot's line types repeat their colours after eight: later series are dashed as well.
+		const std::string dashed = k >= 8 ? " dt " + std::to_string(1 + k / 8) : "";
 		const std::string style = !s.line_style.empty() ? s.line_style
-								  : s.color.empty()		? "lw 2 lt " + std::to_string(k + 1)
+								  : s.color.empty()		? "lw 2 lt " + std::to_string(k + 1) + dashed
 														: std::string("lw 2 lc palette");
 		next() << gp_string(dat_name) << " index " << k << " using 1:2" << (s.color.empty() ? "" : ":3") << " with "
 			   << (plot.with_points ? "linespoints pt 7 ps 0.5 " : "lines ") << style << " title " << gp_string(s.label);
