@@ -69,7 +69,9 @@ std::uint64_t rawlog_data_size(const std::string& path)
 		{
 			break;  // damage: the reading proper reports it
 		}
-		if (n == 0) break;
+		// MRPT returns gzread's -1 (a damaged stream, e.g. a wrong CRC at its end) as SIZE_MAX, again at
+		// every call: without the second test this loop never ends (a fuzzer's 793-byte input).
+		if (n == 0 || n > buffer.size()) break;
 		total += n;
 	}
 	return total;
