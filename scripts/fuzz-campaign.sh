@@ -63,7 +63,9 @@ for r in "${readers[@]}"; do
 	[ "$r" = rawlog ] && [ "$asan" = 1 ] && keep_going=(-ignore_crashes=1)
 	echo "== $r: ${seconds}s, log $log"
 	# shellcheck disable=SC2086
-	nice -n 10 "$build/fuzz/swba_fuzz_$r" "$work" "${extra_dirs[@]}" -fork=1 -ignore_ooms=1 -ignore_timeouts=1 "${keep_going[@]}" \
+	# timeout: a worker can hang in libFuzzer's own timeout handler (malloc from a signal handler while an
+	# input holds the allocator's lock, doc/benchmarks/fuzzing.md); the run then fails instead of hanging.
+	timeout -k 10 $((seconds + 120)) nice -n 10 "$build/fuzz/swba_fuzz_$r" "$work" "${extra_dirs[@]}" -fork=1 -ignore_ooms=1 -ignore_timeouts=1 "${keep_going[@]}" \
 		-max_total_time="$seconds" -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=10 \
 		-artifact_prefix="$findings/" -print_final_stats=1 ${FUZZ_EXTRA_ARGS:-} >"$log" 2>&1 || rc=$?
 	rc=${rc:-0}
