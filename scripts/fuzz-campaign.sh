@@ -5,20 +5,16 @@
 # tum ground_truth g2o bal ini rawlog directba (default: all, one after the other).
 # Configures and builds build-fuzz/ with clang (libFuzzer + ASan/UBSan), then runs each harness
 # nice'd on one core in libFuzzer's fork mode (-fork=1: one worker at a time, restarted after an
-# out-of-memory or timeout input so that those are counted instead of ending the run; a crash ends it,
-# except for rawlog: MRPT 2.5 allocates whatever a corrupt length field asks for, which ASan reports as
-# a crash, so that harness keeps going and every failing input is triaged after the run — its ASan
-# summary and the first frame in MRPT or swba — see doc/fuzzing.md).
+# out-of-memory or timeout input so that those are counted instead of ending the run; a crash ends it;
+# every failing input is triaged after the run — its sanitizer summary and the first frame in MRPT or
+# swba — see doc/fuzzing.md).
 # Each harness works on build-fuzz/corpus-work/<reader>/ (seeded from fuzz/corpus/<reader>/ and
 # fuzz/regressions/<reader>/, which are only read); failing inputs land in build-fuzz/findings/<reader>/.
 # Prints per harness: executions, exec/s, coverage, findings; exit status 1 if any harness had a finding.
 # Environment: FUZZ_EXTRA_ARGS (more libFuzzer flags), FUZZ_BUILD_JOBS (default 2), FUZZ_NO_BUILD=1
 # (run the binaries already built without configuring or building), FUZZ_BUILD_DIR (the build tree, default
 # build-fuzz/; ./dev.sh's smoke uses build-asan/, whose harnesses have coverage of the readers' modules
-# only), FUZZ_SANITIZERS (default
-# address,undefined; "undefined" builds build-fuzz-undefined/, where read_rawlog's memory budget is
-# active — ASan's allocator aborts on the failed allocations the budget relies on — so MRPT's
-# corrupt-length inputs are rejected like in a release build instead of being out-of-memory findings).
+# only), FUZZ_SANITIZERS (default address,undefined; e.g. "undefined" builds build-fuzz-undefined/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -31,8 +27,6 @@ sanitizers=${FUZZ_SANITIZERS:-address,undefined}
 build=build-fuzz
 [ "$sanitizers" != address,undefined ] && build=build-fuzz-${sanitizers//,/-}
 build=${FUZZ_BUILD_DIR:-$build}
-asan=0
-[[ ",$sanitizers," == *,address,* ]] && asan=1
 if [ -z "${FUZZ_NO_BUILD:-}" ]; then
 	CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSWBA_FUZZ=ON -DSWBA_SANITIZE=ON \
 		-DSWBA_SANITIZERS="$sanitizers" -DSWBA_WERROR=ON -DSWBA_BUILD_TESTS=OFF -DSWBA_BUILD_BENCH=OFF >/dev/null
@@ -59,13 +53,11 @@ for r in "${readers[@]}"; do
 	before_list=$(find "$findings" -type f | sort)
 	before=$(wc -l <<<"$before_list")
 	[ -z "$before_list" ] && before=0
-	keep_going=()
-	[ "$r" = rawlog ] && [ "$asan" = 1 ] && keep_going=(-ignore_crashes=1)
 	echo "== $r: ${seconds}s, log $log"
 	# shellcheck disable=SC2086
 	# timeout: a worker can hang in libFuzzer's own timeout handler (malloc from a signal handler while an
 	# input holds the allocator's lock, doc/benchmarks/fuzzing.md); the run then fails instead of hanging.
-	timeout -k 10 $((seconds + 120)) nice -n 10 "$build/fuzz/swba_fuzz_$r" "$work" "${extra_dirs[@]}" -fork=1 -ignore_ooms=1 -ignore_timeouts=1 "${keep_going[@]}" \
+	timeout -k 10 $((seconds + 120)) nice -n 10 "$build/fuzz/swba_fuzz_$r" "$work" "${extra_dirs[@]}" -fork=1 -ignore_ooms=1 -ignore_timeouts=1 \
 		-max_total_time="$seconds" -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=10 \
 		-artifact_prefix="$findings/" -print_final_stats=1 ${FUZZ_EXTRA_ARGS:-} >"$log" 2>&1 || rc=$?
 	rc=${rc:-0}
@@ -77,34 +69,21 @@ for r in "${readers[@]}"; do
 	eps=$([ -n "$execs" ] && [ "${secs:-0}" -gt 0 ] && echo $((execs / secs)) || echo "?")  # the line's own exec/s is the last job's
 	otc=$(sed -E 's/.* oom\/timeout\/crash: ([0-9\/]+).*/\1/' <<<"$last")
 	new=$(($(find "$findings" -type f | wc -l) - before))
-	known=0
-	# Triage: replay each new input once; print the sanitizer's summary and where it happened. Under
-	# ASan, an out-of-memory or timeout of the rawlog harness inside MRPT's deserialisation is the known
-	# upstream problem (doc/fuzzing.md: release builds bound it with a memory budget, which ASan's
-	# allocator rules out): counted as known, not as a failure. Anything else fails the run.
+	# Triage: replay each new input once; print the sanitizer's summary and where it happened. Every
+	# new input fails the run (MRPT's own crashes and allocations no longer reach the harness: read_rawlog
+	# decodes in a capped probe process first, doc/fuzzing.md).
 	for f in $(comm -13 <(echo "$before_list") <(find "$findings" -type f | sort)); do
 		out=$(timeout 60 "$build/fuzz/swba_fuzz_$r" -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=10 "$f" 2>&1 || true)
 		what=$(grep -m1 -E '^SUMMARY|ERROR: libFuzzer' <<<"$out" | cut -c1-120 || true)
 		frame=$(grep -E '^ +#[0-9]+ ' <<<"$out" | grep -vE 'operator new|__asan|__interceptor|libFuzzer|fuzzer::' |
 			grep -m1 -E 'libmrpt|/modules/|/fuzz/fuzz_' || true)
-		module=$(grep -oE 'libmrpt[^+ )]*' <<<"$frame" | head -n 1 || true)
-		where="${module:+$module: }$(sed -E 's/^ +#[0-9]+ 0x[0-9a-f]+ in //' <<<"$frame" | cut -c1-110)"
-		# (MRPT's float vectors allocate through mrpt::aligned_malloc, which swba interposes, so that
-		# frame is MRPT's too; an RSS-limit report carries no allocation stack at all.)
-		mrpt_frame=$([ -n "$module" ] || grep -q 'mrpt::aligned_malloc' <<<"$frame" && echo 1 || true)
-		rss_only=$(grep -qE 'libFuzzer: out-of-memory \(used: ' <<<"$what" && [ -z "$frame" ] && echo 1 || true)
-		if [ "$r" = rawlog ] && [ "$asan" = 1 ] && [ -n "$mrpt_frame$rss_only" ] &&
-			grep -qiE 'out-of-memory|out of memory|malloc limit|rss limit|timeout|allocation-size-too-big' <<<"$what$out"; then
-			known=$((known + 1))
-			echo "  known (MRPT, no budget under ASan) $f: $what | $where"
-		else
-			echo "  finding $f: ${what:-no failure when replayed alone}${frame:+ | $where}"
-		fi
+		where=$(sed -E 's/^ +#[0-9]+ 0x[0-9a-f]+ in //' <<<"$frame" | cut -c1-110)
+		echo "  finding $f: ${what:-no failure when replayed alone}${frame:+ | $where}"
 	done
-	if [ "$new" -gt "$known" ] || { [ "$rc" != 0 ] && [ "$known" = 0 ]; }; then status=1; fi
+	if [ "$new" -gt 0 ] || [ "$rc" != 0 ]; then status=1; fi
 	unset rc
-	summary+=("$(printf '%-13s executions %-10s in %5ss  exec/s %-6s cov %-6s oom/timeout/crash %-7s new files in %s: %s (known: %s)' \
-		"$r" "${execs:-?}" "${secs:-?}" "$eps" "${cov:-?}" "${otc:-?}" "$findings" "$new" "$known")")
+	summary+=("$(printf '%-13s executions %-10s in %5ss  exec/s %-6s cov %-6s oom/timeout/crash %-7s new files in %s: %s' \
+		"$r" "${execs:-?}" "${secs:-?}" "$eps" "${cov:-?}" "${otc:-?}" "$findings" "$new")")
 done
 echo
 printf '%s\n' "${summary[@]}"

@@ -1,5 +1,7 @@
 #include <swba/io/rawlog.h>
 
+#include "decoder_probe.h"
+
 #include <swba/core/file.h>
 #include <swba/core/memory_budget.h>
 
@@ -216,6 +218,8 @@ class Reader
 		warn(msg);
 	}
 	bool read_entry(mrpt::io::CFileGZInputStream& f, mrpt::serialization::CArchive& arch, bool& clean_end);
+	std::string decode_entry(mrpt::io::CFileGZInputStream& f, mrpt::serialization::CArchive& arch,
+							 mrpt::serialization::CSerializable::Ptr& obj, bool& clean_end) const;
 	void take_entry(const mrpt::serialization::CSerializable::Ptr& obj);
 	void add_step(const CActionCollection::Ptr& acts, std::size_t act_entry, const CSensoryFrame::Ptr& sf,
 				  std::size_t sf_entry);
@@ -236,6 +240,7 @@ class Reader
 	std::size_t pending_entry_ = 0;
 	std::size_t entry_ = 0;  ///< entries read
 	std::uint64_t budget_ = 0;  ///< memory budget of the reading in bytes (0: none)
+	std::optional<detail::DecoderDeath> decoder_death_;  ///< where the probe's decoder died, if it did
 	bool budget_active_ = false;
 
 	std::string budget_exceeded() const
@@ -272,13 +277,17 @@ void Reader::add_step(
 	out_.steps.push_back(std::move(s));
 }
 
-/** Reads and takes the next entry; false at the end of the data: clean (at an object boundary) or
- * after damage that allow_truncated lets pass. */
-bool Reader::read_entry(mrpt::io::CFileGZInputStream& f, mrpt::serialization::CArchive& arch, bool& clean_end)
+/** Decodes the next object into `obj`; returns what is wrong with it ("" if nothing), or sets
+ * clean_end at the end of the data on an object boundary. */
+std::string Reader::decode_entry(mrpt::io::CFileGZInputStream& f, mrpt::serialization::CArchive& arch,
+								 mrpt::serialization::CSerializable::Ptr& obj, bool& clean_end) const
 {
+	if (decoder_death_ && decoder_death_->entry == entry_)
+		return "MRPT's decoder does not survive this object: its probe process, decoding it " +
+			(budget_ > 0 ? "under the reading's memory budget of " + std::to_string(budget_ >> 20) + " MiB"
+						 : std::string("with no memory budget")) +
+			", was " + decoder_death_->how;
 	const uint64_t pos_before = f.getPosition();
-	mrpt::serialization::CSerializable::Ptr obj;
-	std::string damage;
 	try
 	{
 		arch >> obj;
@@ -288,19 +297,28 @@ bool Reader::read_entry(mrpt::io::CFileGZInputStream& f, mrpt::serialization::CA
 		if (f.getPosition() == pos_before)
 		{
 			clean_end = true;
-			return false;
+			return "";
 		}
-		damage = "unexpected end of data inside the object (" + mrpt_exception_summary(e.what()) + ")";
+		return "unexpected end of data inside the object (" + mrpt_exception_summary(e.what()) + ")";
 	}
 	catch (const std::bad_alloc&)
 	{
-		damage = budget_exceeded();
+		return budget_exceeded();
 	}
 	catch (const std::exception& e)
 	{
-		damage = is_allocation_failure(e.what()) ? budget_exceeded() : mrpt_exception_summary(e.what());
+		return is_allocation_failure(e.what()) ? budget_exceeded() : mrpt_exception_summary(e.what());
 	}
-	if (damage.empty() && !obj) damage = "null object";
+	return obj ? "" : "null object";
+}
+
+/** Reads and takes the next entry; false at the end of the data: clean (at an object boundary) or
+ * after damage that allow_truncated lets pass. */
+bool Reader::read_entry(mrpt::io::CFileGZInputStream& f, mrpt::serialization::CArchive& arch, bool& clean_end)
+{
+	mrpt::serialization::CSerializable::Ptr obj;
+	const std::string damage = decode_entry(f, arch, obj, clean_end);
+	if (clean_end) return false;
 	if (!damage.empty())
 	{
 		if (entry_ == 0) fail("not an MRPT rawlog, or corrupt from the start (entry 0: " + damage + ")");
@@ -384,6 +402,7 @@ Rawlog Reader::run()
 	budget_ = opt_.memory_budget == RawlogReaderOptions::kAutoMemoryBudget
 				  ? auto_memory_budget(rawlog_data_size(path))
 				  : opt_.memory_budget;
+	if (opt_.probe_decoder) decoder_death_ = detail::probe_decoder_in_child(path, budget_);
 	mrpt::io::CFileGZInputStream f;
 	std::string open_error;
 	if (!f.open(path, open_error)) fail("cannot open: " + open_error);

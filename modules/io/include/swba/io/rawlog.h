@@ -90,6 +90,11 @@ struct RawlogReaderOptions
 	 * the cap is process-wide; not in AddressSanitizer builds). 0 = no cap. Default kAutoMemoryBudget:
 	 * auto_memory_budget() of the file. */
 	std::uint64_t memory_budget = kAutoMemoryBudget;
+	/** Decode the file once in a child process before reading it (default true): an object on which
+	 * MRPT's decoder crashes (it dereferences null objects stored in the file) or exhausts its memory
+	 * budget (also under AddressSanitizer, where the address-space cap is unavailable) then ends the
+	 * reading as a corrupt entry instead of killing the process. Costs a second decoding of the file. */
+	bool probe_decoder = true;
 
 	static constexpr std::uint64_t kAutoMemoryBudget = ~std::uint64_t(0);
 };
