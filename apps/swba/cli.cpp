@@ -69,8 +69,18 @@ class OneLineOutput : public TCLAP::StdOutput
 	void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override
 	{
 		failed = true;
-		std::cerr << c.getProgramName() << ": error: " << e.error() << " [" << e.argId() << "]"
-				  << " (see --help)\n";
+		std::string missing;  // TCLAP names no unlabeled argument in its "required arguments missing"
+		for (const TCLAP::Arg* a : c.getArgList())
+			if (a->isRequired() && !a->isSet()) missing += (missing.empty() ? "" : ", ") + a->getName();
+		std::cerr << c.getProgramName() << ": error: ";
+		if (!missing.empty() && e.error().find("required arguments missing") != std::string::npos)
+			std::cerr << "missing argument(s): " << missing;
+		else
+		{
+			std::cerr << e.error();
+			if (e.argId().find_first_not_of(' ') != std::string::npos) std::cerr << " [" << e.argId() << "]";
+		}
+		std::cerr << " (see --help)\n";
 	}
 };
 

@@ -110,6 +110,7 @@ swba_cli_case(unknown_short_option 2 REGEX "^swba ape: error: unknown option '-x
 swba_cli_case(switch_given_a_value 2 REGEX "error: option '--no-ekf' takes no value" ARGS run --no-ekf=1)
 swba_cli_case(missing_value 2 REGEX "error: Missing a value for this argument! \\[Argument: \\(--windows\\)\\]"
   ARGS run --windows)
+swba_cli_case(missing_positional 2 REGEX "^swba ape: error: missing argument\\(s\\): REF, EST \\(see --help\\)" ARGS ape)
 swba_cli_case(equals_form 0 REGEX "\\(3 steps\\)\nAPE not aligned"
   ARGS run --max-steps=3 --windows=5 --no-ekf --no-batch --no-plots --no-progress --out=${_out}/cli_equals_form)
 # A value that starts with '-' is the option's value, not an unknown option.
