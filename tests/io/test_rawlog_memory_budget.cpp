@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -100,6 +101,17 @@ TEST(RawlogDecoderProbe, ANormalRawlogReadsTheSameWithAndWithoutTheProbe)
 	EXPECT_EQ(probed.entries, plain.entries);
 	EXPECT_EQ(probed.steps.size(), plain.steps.size());
 	EXPECT_EQ(probed.readings, plain.readings);
+}
+
+TEST(RawlogDecoderProbe, AnApplicationIgnoringSigchldStillReads)
+{
+	// With SIGCHLD ignored the kernel reaps the probe itself and waitpid fails with ECHILD.
+	const auto previous = std::signal(SIGCHLD, SIG_IGN);
+	const std::string demo = std::string(SWBA_MRPT_DATASETS) + "/kf-slam_6D_demo.rawlog";
+	std::size_t steps = 0;
+	EXPECT_NO_THROW(steps = swba::io::read_rawlog(demo).steps.size());
+	std::signal(SIGCHLD, previous);
+	EXPECT_EQ(steps, 599u);
 }
 
 TEST(RawlogMemoryBudget, ANormalRawlogReadsTheSameWithAndWithoutTheBudget)

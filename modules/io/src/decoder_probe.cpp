@@ -143,7 +143,10 @@ std::optional<DecoderDeath> probe_decoder_in_child(const std::string& path, std:
 	::close(fds[0]);
 	int status = 0;
 	while (::waitpid(pid, &status, 0) < 0)
+	{
+		if (errno == ECHILD) return std::nullopt;  // SIGCHLD ignored by the application: the child was reaped
 		if (errno != EINTR) throw std::runtime_error(std::string("waiting for the decoding probe: ") + std::strerror(errno));
+	}
 	if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return std::nullopt;
 	return DecoderDeath{static_cast<std::size_t>(last), describe(status)};
 }

@@ -23,6 +23,7 @@ struct DecoderDeath
  * cap), with its standard output and error discarded. Returns nothing when the child ended normally —
  * at the end of the data or at any exception, which the caller's own reading meets again and reports
  * — and the entry and the cause when it died (a signal, or a non-zero exit such as a sanitizer's report).
+ * Nothing, too, when the child's status cannot be known (an application that ignores SIGCHLD).
  *
  * Why: MRPT 2.5's decoder dereferences null objects read from the file (e.g. a CActionRobotMovement2D
  * whose pose PDF is stored as "nullptr") and allocates whatever a corrupt length asks for; neither can
