@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace swba::estimators::detail
 {
@@ -120,6 +122,25 @@ void RangeBearingGraph::admit_reading(std::int32_t id, const Observation& o, Ste
 		return;
 	}
 	waiting.push_back(o);
+}
+
+void RangeBearingGraph::admit_associated(std::int32_t id, const Observation& o)
+{
+	auto it = landmarks_.find(id);
+	if (it != landmarks_.end())
+	{
+		admit(it->second, o);
+		return;
+	}
+	// A provisional landmark: association gives each unmatched reading its own ID, so it waits alone.
+	auto waiting = unconfirmed_.find(id);
+	if (waiting == unconfirmed_.end() || waiting->second.size() != 1)
+		throw std::logic_error("admit_associated: landmark " + std::to_string(id) + " is neither in the graph nor provisional");
+	const Observation first = waiting->second.front();
+	unconfirmed_.erase(waiting);
+	Landmark& lm = add_landmark(id, first);
+	admit(lm, first);
+	admit(lm, o);
 }
 
 void RangeBearingGraph::readmit_held(StepSummary& sum)

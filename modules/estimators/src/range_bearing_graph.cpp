@@ -212,8 +212,9 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 	std::vector<std::pair<std::int32_t, Observation>> readings;
 	for (const auto& rd : step.readings) readings.push_back({rd.landmark_id, {k, {rd.range, rd.yaw, rd.pitch}, sigma, -1}});
 	assigned_ids_.resize(k + 1);
+	std::vector<bool> matched(readings.size(), false);
 	if (associating)
-		associate_readings(readings, assigned_ids_[k]);
+		associate_readings(readings, assigned_ids_[k], matched);
 	else
 		for (const auto& [id, o] : readings)
 		{
@@ -225,11 +226,15 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 	sum.readings += static_cast<int>(readings.size());
 	counts_.readings += readings.size();
 	if (gate_on_entry_) centre_gate(readings);
-	for (const auto& [id, o] : readings)
+	for (std::size_t i = 0; i < readings.size(); i++)
 	{
+		const auto& [id, o] = readings[i];
 		if (gate_on_entry_)
 		{
-			admit_reading(id, o, sum);
+			if (matched[i])
+				admit_associated(id, o);
+			else
+				admit_reading(id, o, sum);
 			continue;
 		}
 		auto it = landmarks_.find(id);

@@ -187,6 +187,11 @@ class RangeBearingGraph
 	/** The χ² gate step of a reading on arrival (gate_on_entry): a reading of a known landmark enters
 	 * or is held; the first reading of a landmark waits for a consistent second one. */
 	void admit_reading(std::int32_t id, const Observation& o, StepSummary& sum);
+	/** A reading that data association matched to landmark `id` (a graph landmark, or a provisional one
+	 * it then confirms): it passed the χ² test of individual compatibility against the window's joint
+	 * covariance, so it enters without admit_reading's test (whose odometry-only pose covariance would
+	 * hold every reading of a landmark seen again after a long stretch of dead reckoning). */
+	void admit_associated(std::int32_t id, const Observation& o);
 	using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 	/** Residual (reading_dof rows, not whitened) of reading `o` against world point `p` with its pose
 	 * at `pose_x` (null: the pose's current value), and optionally ∂r/∂T on the pose's tangent. */
@@ -216,7 +221,7 @@ class RangeBearingGraph
 	 * with the odometry's covariance newest_pose_cov_ shared by all predictions and each landmark's own
 	 * approximated by the reading noise / (its readings); an unmatched reading gets a new ID. */
 	void associate_readings(std::vector<std::pair<std::int32_t, Observation>>& readings,
-							std::vector<std::int32_t>& assigned);
+							std::vector<std::int32_t>& assigned, std::vector<bool>& matched);
 	/** World point `p` in the frame of `sensor` on the robot at `pose_x`. */
 	Eigen::Vector3d in_sensor_frame(const double* pose_x, const mrpt::poses::CPose3D& sensor,
 									const Eigen::Vector3d& p) const;
