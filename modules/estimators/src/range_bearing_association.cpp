@@ -52,110 +52,185 @@ Eigen::Vector3d RangeBearingGraph::in_sensor_frame(const double* pose_x, const m
 	return {lx, ly, lz};
 }
 
-void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, Observation>>& readings,
-										   std::vector<std::int32_t>& assigned, std::vector<bool>& matched)
+RangeBearingGraph::JointPrediction RangeBearingGraph::predict_jointly(std::size_t k,
+																	  const std::vector<PredictionTarget>& targets)
 {
-	const int dim = model_ == PoseModel::Planar ? 2 : 3;
+	const int dim = reading_dof();
 	Problem& problem = smoother_.problem();
-	const std::size_t k = readings.front().second.pose_step;
 	const PoseRecord& P = poses_[k];
-	// Candidates: the graph's landmarks and the first readings still waiting for confirmation
-	// (provisional landmarks: a world point from one reading at a window pose).
-	struct Candidate
-	{
-		std::int32_t id;
-		const Landmark* lm;          ///< a graph landmark, or null
-		const Observation* first;    ///< a provisional landmark's reading, or null
-		std::vector<VariableId> vars;  ///< the variables its world point depends on
+	// The variables a target's world point depends on.
+	const auto vars_of = [&](const PredictionTarget& t) -> std::vector<VariableId> {
+		if (!t.lm) return {poses_[t.first->pose_step].var};
+		if (is_world_point(t.lm->var)) return {t.lm->var};
+		return {t.lm->var, poses_[t.lm->anchor_step].var};
 	};
-	std::vector<Candidate> cand;
-	for (const auto& [id, lm] : landmarks_)
-	{
-		const bool world = opt_.landmarks == LandmarkParameterization::Xyz || lm.world_xyz || model_ == PoseModel::Planar;
-		cand.push_back({id, &lm, nullptr, world ? std::vector<VariableId>{lm.var}
-												: std::vector<VariableId>{lm.var, poses_[lm.anchor_step].var}});
-	}
-	for (const auto& [id, waiting] : unconfirmed_)
-		for (const auto& o : waiting) cand.push_back({id, nullptr, &o, {poses_[o.pose_step].var}});
-	// The candidate's prediction in the new pose's sensor frame, with variable `v` at `xv` (v < 0: all
-	// at their current values; the new pose at its dead-reckoned value).
-	const auto predict = [&](const Candidate& c, VariableId v, const double* xv) -> Eigen::Vector3d {
+	// A target's prediction in the new pose's sensor frame, with variable `v` at `xv` (v < 0: all at
+	// their current values; the new pose at its dead-reckoned value).
+	const auto predict = [&](const PredictionTarget& t, VariableId v, const double* xv) -> Eigen::Vector3d {
 		const auto value = [&](VariableId u) { return u == v ? xv : problem.value(u); };
 		Eigen::Vector3d p;
-		if (c.lm && c.vars.size() == 1)
-			p = Eigen::Map<const Eigen::Vector3d>(value(c.lm->var));
-		else if (c.lm)
+		if (t.lm && is_world_point(t.lm->var))
+			p = Eigen::Map<const Eigen::Vector3d>(value(t.lm->var));
+		else if (t.lm)
 		{
-			const PoseRecord& a = poses_[c.lm->anchor_step];
-			p = inverse_depth_to_world(value(a.var), a.sensor, Eigen::Map<const Eigen::Vector3d>(value(c.lm->var)));
+			const PoseRecord& a = poses_[t.lm->anchor_step];
+			p = inverse_depth_to_world(value(a.var), a.sensor, Eigen::Map<const Eigen::Vector3d>(value(t.lm->var)));
 		}
 		else
 		{
-			const PoseRecord& C = poses_[c.first->pose_step];
-			p = inverse_depth_to_world(value(C.var), C.sensor, inverse_depth_from_measurement(c.first->z));
+			const PoseRecord& C = poses_[t.first->pose_step];
+			p = inverse_depth_to_world(value(C.var), C.sensor, inverse_depth_from_measurement(t.first->z));
 		}
 		return in_sensor_frame(value(P.var), P.sensor, p);
 	};
-	// The joint covariance of the new pose and every variable a candidate depends on, from the
-	// window's information at the current estimate: the new pose's marginal is the prediction of its
-	// odometry from the previous estimate, and the cross-covariances say how a pose error moves the
-	// landmarks seen with it (the gap since a landmark was last seen, the heading's lever arm).
+	// The joint covariance of the new pose and every variable a target depends on, from the window's
+	// information at the current estimate: the new pose's marginal is the prediction of its odometry
+	// from the previous estimate, and the cross-covariances say how a pose error moves the landmarks
+	// seen with it (the drift since a landmark was last seen, with the heading's lever arm).
 	std::vector<VariableId> group{P.var};
 	std::map<VariableId, int> at{{P.var, 0}};
 	int D = problem.variable(P.var).manifold->tangent_size();
-	for (const auto& c : cand)
-		for (VariableId v : c.vars)
+	std::vector<std::vector<VariableId>> vars;
+	for (const auto& t : targets)
+	{
+		vars.push_back(vars_of(t));
+		for (VariableId v : vars.back())
 			if (at.emplace(v, D).second)
 			{
 				group.push_back(v);
 				D += problem.variable(v).manifold->tangent_size();
 			}
+	}
 	CovarianceRequest request;
 	request.groups.push_back(group);
 	const CovarianceResult cov = covariances(request);
+	JointPrediction out;
 	if (!cov.ok)
-		throw std::runtime_error("data association at step " + std::to_string(k) +
-								 ": the window's covariance cannot be recovered (" + cov.message + ")");
-	const Eigen::MatrixXd& Sigma = cov.blocks.front();
+	{
+		out.message = cov.message;
+		return out;
+	}
+	out.ok = true;
+	out.covariance = cov.blocks.front();
 	// Predictions and their Jacobians on the group's tangent (central differences).
-	const int n = static_cast<int>(cand.size());
-	std::vector<Eigen::Vector3d> predicted(cand.size());
-	Eigen::MatrixXd J = Eigen::MatrixXd::Zero(n * dim, D);
+	const int n = static_cast<int>(targets.size());
+	out.points.resize(targets.size());
+	out.jacobian = Eigen::MatrixXd::Zero(n * dim, D);
 	std::vector<double> xp, xm;
 	for (int j = 0; j < n; j++)
 	{
-		const Candidate& c = cand[static_cast<std::size_t>(j)];
-		predicted[static_cast<std::size_t>(j)] = predict(c, -1, nullptr);
-		std::vector<VariableId> vars{P.var};
-		vars.insert(vars.end(), c.vars.begin(), c.vars.end());
-		for (VariableId v : vars)
+		const auto tj = static_cast<std::size_t>(j);
+		const PredictionTarget& t = targets[tj];
+		out.points[tj] = predict(t, -1, nullptr);
+		std::vector<VariableId> with_pose{P.var};
+		with_pose.insert(with_pose.end(), vars[tj].begin(), vars[tj].end());
+		for (VariableId v : with_pose)
 		{
 			const Manifold& M = *problem.variable(v).manifold;
 			const double* x = problem.value(v);
 			xp.resize(static_cast<std::size_t>(M.ambient_size()));
 			xm.resize(xp.size());
-			for (int t = 0; t < M.tangent_size(); t++)
+			for (int c = 0; c < M.tangent_size(); c++)
 			{
 				Eigen::VectorXd d = Eigen::VectorXd::Zero(M.tangent_size());
-				d[t] = 1e-6;
+				d[c] = 1e-6;
 				M.plus(x, d.data(), xp.data());
-				d[t] = -1e-6;
+				d[c] = -1e-6;
 				M.plus(x, d.data(), xm.data());
-				J.block(j * dim, at.at(v) + t, dim, 1) =
-					((predict(c, v, xp.data()) - predict(c, v, xm.data())) / 2e-6).head(dim);
+				out.jacobian.block(j * dim, at.at(v) + c, dim, 1) =
+					((predict(t, v, xp.data()) - predict(t, v, xm.data())) / 2e-6).head(dim);
 			}
 		}
 	}
 	// A provisional landmark's own noise: its reading's, turned from its pose's sensor frame into the
 	// new one (the reading is not a variable of the window).
-	const auto own_covariance = [&](const Candidate& c) -> Eigen::MatrixXd {
-		if (!c.first) return Eigen::MatrixXd::Zero(dim, dim);
-		const PoseRecord& C = poses_[c.first->pose_step];
+	out.own.assign(targets.size(), Eigen::MatrixXd::Zero(dim, dim));
+	for (std::size_t j = 0; j < targets.size(); j++)
+	{
+		const Observation* first = targets[j].first;
+		if (!first) continue;
+		const PoseRecord& C = poses_[first->pose_step];
 		const mrpt::poses::CPose3D sc = SE3Manifold::to_pose(problem.value(C.var)) + C.sensor;
 		const mrpt::poses::CPose3D sn = SE3Manifold::to_pose(problem.value(P.var)) + P.sensor;
 		const Eigen::Matrix3d R = sn.getRotationMatrix().asEigen().transpose() * sc.getRotationMatrix().asEigen();
-		return (R * reading_point_covariance(c.first->z, c.first->sigma) * R.transpose()).topLeftCorner(dim, dim);
-	};
+		out.own[j] = (R * reading_point_covariance(first->z, first->sigma) * R.transpose()).topLeftCorner(dim, dim);
+	}
+	return out;
+}
+
+Eigen::MatrixXd RangeBearingGraph::JointPrediction::covariance_of(int a, int b, int dim) const
+{
+	Eigen::MatrixXd S = jacobian.middleRows(a * dim, dim) * covariance * jacobian.middleRows(b * dim, dim).transpose();
+	if (a == b) S += own[static_cast<std::size_t>(a)];
+	return S;
+}
+
+double RangeBearingGraph::JointPrediction::distance(int j, const Observation& o, int dim) const
+{
+	const Eigen::VectorXd e = (reading_point(o.z) - points[static_cast<std::size_t>(j)]).head(dim);
+	const Eigen::MatrixXd S =
+		covariance_of(j, j, dim) + reading_point_covariance(o.z, o.sigma).topLeftCorner(dim, dim);
+	return e.dot(S.ldlt().solve(e));
+}
+
+void RangeBearingGraph::retest_held(std::size_t k, StepSummary& sum)
+{
+	std::vector<PredictionTarget> targets;
+	std::vector<Landmark*> holding;
+	for (auto& [id, lm] : landmarks_)
+		for (const auto& h : lm.held)
+			if (h.pose_step == k)
+			{
+				targets.push_back({&lm, nullptr});
+				holding.push_back(&lm);
+				break;
+			}
+	if (targets.empty()) return;
+	const JointPrediction pred = predict_jointly(k, targets);
+	if (!pred.ok) return;  // they stay held (counted), re-tested after the solve
+	for (std::size_t j = 0; j < holding.size(); j++)
+	{
+		Landmark& lm = *holding[j];
+		std::vector<Observation> still;
+		for (const auto& h : lm.held)
+		{
+			if (h.pose_step == k && pred.distance(static_cast<int>(j), h, reading_dof()) <= gate_threshold_)
+			{
+				admit(lm, h);
+				sum.gated--;
+				counts_.gated--;
+			}
+			else
+				still.push_back(h);
+		}
+		lm.held = std::move(still);
+	}
+}
+
+void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, Observation>>& readings,
+										   std::vector<std::int32_t>& assigned, std::vector<bool>& matched)
+{
+	const int dim = reading_dof();
+	const std::size_t k = readings.front().second.pose_step;
+	// Candidates: the graph's landmarks and the first readings still waiting for confirmation
+	// (provisional landmarks: a world point from one reading at a window pose).
+	std::vector<std::int32_t> ids;
+	std::vector<PredictionTarget> cand;
+	for (const auto& [id, lm] : landmarks_)
+	{
+		ids.push_back(id);
+		cand.push_back({&lm, nullptr});
+	}
+	for (const auto& [id, waiting] : unconfirmed_)
+		for (const auto& o : waiting)
+		{
+			ids.push_back(id);
+			cand.push_back({nullptr, &o});
+		}
+	const JointPrediction pred = predict_jointly(k, cand);
+	if (!pred.ok)
+		throw std::runtime_error("data association at step " + std::to_string(k) +
+								 ": the window's covariance cannot be recovered (" + pred.message + ")");
 	AssociationProblem prob;
 	prob.dim = dim;
 	for (const auto& [id, o] : readings)
@@ -167,20 +242,13 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 	// nearest: JCBB's search grows exponentially with the choices per reading, and a farther candidate
 	// is never the nearest neighbour and rarely the joint choice.
 	const double gate = chi2_quantile(opt_.gate_probability, dim);
-	std::vector<std::vector<std::pair<double, int>>> compatible(prob.readings.size());
-	std::vector<Eigen::MatrixXd> own(cand.size());
-	for (int j = 0; j < n; j++)
-	{
-		own[static_cast<std::size_t>(j)] = own_covariance(cand[static_cast<std::size_t>(j)]);
-		const auto Jj = J.middleRows(j * dim, dim);
-		const Eigen::MatrixXd Sj = Jj * Sigma * Jj.transpose() + own[static_cast<std::size_t>(j)];
-		for (std::size_t i = 0; i < prob.readings.size(); i++)
+	std::vector<std::vector<std::pair<double, int>>> compatible(readings.size());
+	for (int j = 0; j < static_cast<int>(cand.size()); j++)
+		for (std::size_t i = 0; i < readings.size(); i++)
 		{
-			const Eigen::VectorXd e = prob.readings[i] - predicted[static_cast<std::size_t>(j)].head(dim);
-			const double d2 = e.dot((Sj + prob.reading_covariances[i]).ldlt().solve(e));
+			const double d2 = pred.distance(j, readings[i].second, dim);
 			if (d2 <= gate) compatible[i].push_back({d2, j});
 		}
-	}
 	constexpr std::size_t kMaxCandidates = 3;
 	std::set<int> chosen;
 	for (auto& c : compatible)
@@ -190,23 +258,23 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 	}
 	const std::vector<int> kept(chosen.begin(), chosen.end());
 	const int m = static_cast<int>(kept.size());
-	Eigen::MatrixXd Jk(m * dim, D);
+	prob.prediction_covariance = Eigen::MatrixXd::Zero(m * dim, m * dim);
 	for (int a = 0; a < m; a++)
 	{
-		Jk.middleRows(a * dim, dim) = J.middleRows(kept[static_cast<std::size_t>(a)] * dim, dim);
-		prob.predictions.push_back(predicted[static_cast<std::size_t>(kept[static_cast<std::size_t>(a)])].head(dim));
+		const int ja = kept[static_cast<std::size_t>(a)];
+		prob.predictions.push_back(pred.points[static_cast<std::size_t>(ja)].head(dim));
+		for (int b = 0; b < m; b++)
+			prob.prediction_covariance.block(a * dim, b * dim, dim, dim) =
+				pred.covariance_of(ja, kept[static_cast<std::size_t>(b)], dim);
 	}
-	prob.prediction_covariance = Jk * Sigma * Jk.transpose();
-	for (int a = 0; a < m; a++)
-		prob.prediction_covariance.block(a * dim, a * dim, dim, dim) += own[static_cast<std::size_t>(kept[static_cast<std::size_t>(a)])];
 	const std::vector<int> match = associate(prob, association_, opt_.gate_probability);
 	assigned.clear();
 	matched.assign(readings.size(), false);
 	for (std::size_t i = 0; i < readings.size(); i++)
 	{
 		matched[i] = match[i] >= 0;
-		const std::int32_t id = match[i] >= 0 ? cand[static_cast<std::size_t>(kept[static_cast<std::size_t>(match[i])])].id
-											  : next_landmark_id_++;
+		const std::int32_t id =
+			matched[i] ? ids[static_cast<std::size_t>(kept[static_cast<std::size_t>(match[i])])] : next_landmark_id_++;
 		readings[i].first = id;
 		assigned.push_back(id);
 	}

@@ -240,6 +240,7 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 		auto it = landmarks_.find(id);
 		admit(it == landmarks_.end() ? add_landmark(id, o) : it->second, o);
 	}
+	if (gate_on_entry_ && !associating) retest_held(k, sum);
 }
 
 void RangeBearingGraph::admit(Landmark& lm, Observation o)

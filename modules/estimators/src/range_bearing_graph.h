@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <map>
 #include <set>
+#include <string>
 #include <vector>
 
 namespace swba::estimators::detail
@@ -222,6 +223,36 @@ class RangeBearingGraph
 	 * approximated by the reading noise / (its readings); an unmatched reading gets a new ID. */
 	void associate_readings(std::vector<std::pair<std::int32_t, Observation>>& readings,
 							std::vector<std::int32_t>& assigned, std::vector<bool>& matched);
+	/** What predict_jointly predicts: a graph landmark, or a provisional one (its first reading). */
+	struct PredictionTarget
+	{
+		const Landmark* lm;
+		const Observation* first;
+	};
+	/** Targets predicted in the sensor frame of pose step k (at its current, dead-reckoned value) with
+	 * their joint covariance: Jacobian × the window's joint marginal covariance of the new pose and the
+	 * variables the targets depend on × Jacobianᵀ, plus a provisional target's reading noise. */
+	struct JointPrediction
+	{
+		bool ok = false;
+		std::string message;               ///< why the covariance could not be recovered
+		std::vector<Eigen::Vector3d> points;  ///< per target, in the sensor frame
+		Eigen::MatrixXd jacobian;          ///< (targets × reading_dof) × the group's tangent
+		Eigen::MatrixXd covariance;        ///< the group's joint covariance
+		std::vector<Eigen::MatrixXd> own;  ///< per target, noise that is not a window variable's
+		/** The reading_dof-sized block (a, b) of the predictions' joint covariance. */
+		Eigen::MatrixXd covariance_of(int a, int b, int dim) const;
+		/** Squared Mahalanobis distance of reading `o` (as a point in the sensor frame) from target j. */
+		double distance(int j, const Observation& o, int dim) const;
+	};
+	JointPrediction predict_jointly(std::size_t k, const std::vector<PredictionTarget>& targets);
+	/** Known IDs: the readings of step k that admit_reading held (its pose covariance is the odometry's
+	 * alone) are tested again against the window's joint covariance (predict_jointly); those inside the
+	 * gate enter now. After a long stretch without readings the drift is far beyond one step's
+	 * odometry covariance: without this, every reading of the landmarks seen again would be held and the
+	 * pose would follow the odometry until a solve re-admitted them. Costs a covariance recovery on the
+	 * steps that held a reading only. */
+	void retest_held(std::size_t k, StepSummary& sum);
 	/** World point `p` in the frame of `sensor` on the robot at `pose_x`. */
 	Eigen::Vector3d in_sensor_frame(const double* pose_x, const mrpt::poses::CPose3D& sensor,
 									const Eigen::Vector3d& p) const;
