@@ -6,6 +6,9 @@
 // With --covariance-off the window also runs with covariance recovery off, and a table compares the two
 // in the same run (the ratio of ms/step, fastest of three alternating runs each, and the recovery's own
 // share of the step time).
+// A cost table gives, per estimator, the mean, median and 99th percentile of ms/step, its peak resident
+// set size and its minor page faults per step (heap churn): the peak is reset before each estimator
+// (Linux: /proc/self/clear_refs) and read after it (VmHWM), so each row's figure is its own.
 // A benchmark, not a test: timings vary ±25 % between runs on shared machines; compare within a run.
 #include <swba/apps/run.h>
 #include <swba/eval/ground_truth.h>
@@ -13,11 +16,15 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/system/filesystem.h>
 
+#include <sys/resource.h>
+
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <numeric>
 #include <sstream>
 #include <string>
@@ -34,6 +41,71 @@ std::string fmt(const char* f, double v)
 	char buf[64];
 	std::snprintf(buf, sizeof(buf), f, v);
 	return buf;
+}
+
+/** What one estimator used besides time: its peak resident set and the minor page faults it caused. */
+struct Resources
+{
+	double peak_rss_mib = -1;  ///< −1: unknown (no /proc)
+	long minor_faults = 0;
+};
+
+/** Resources per row label, filled by ResourceMeter as rows finish. */
+std::map<std::string, Resources>& row_resources()
+{
+	static std::map<std::string, Resources> r;
+	return r;
+}
+
+/** Measures each estimator of a run_estimators call from its row_done callbacks: between two callbacks
+ * only the rows added in between ran (rows run one after another). */
+class ResourceMeter
+{
+   public:
+	ResourceMeter() { reset(); }
+	/** Attributes what was used since the last call to rows [first, report.rows.size()) and restarts. */
+	void rows_done(const RunReport& report, const std::string& suffix)
+	{
+		Resources r;
+		r.peak_rss_mib = peak_rss_mib();
+		r.minor_faults = minor_faults() - faults_at_start_;
+		for (std::size_t i = first_; i < report.rows.size(); i++) row_resources()[report.rows[i].label + suffix] = r;
+		first_ = report.rows.size();
+		reset();
+	}
+
+   private:
+	static long minor_faults()
+	{
+		rusage u{};
+		getrusage(RUSAGE_SELF, &u);
+		return u.ru_minflt;
+	}
+	/** VmHWM of /proc/self/status in MiB, −1 when it cannot be read. */
+	static double peak_rss_mib()
+	{
+		std::ifstream f("/proc/self/status");
+		std::string line;
+		while (std::getline(f, line))
+			if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+		return -1;
+	}
+	void reset()
+	{
+		std::ofstream("/proc/self/clear_refs") << "5";  // resets VmHWM to the current RSS
+		faults_at_start_ = minor_faults();
+	}
+	std::size_t first_ = 0;
+	long faults_at_start_ = 0;
+};
+
+/** The q-quantile (0..1) of v (nearest rank), 0 for an empty v. */
+double quantile_of(std::vector<double> v, double q)
+{
+	if (v.empty()) return 0;
+	std::sort(v.begin(), v.end());
+	const auto i = static_cast<std::size_t>(std::ceil(q * double(v.size()))) - (q > 0 ? 1 : 0);
+	return v[std::min(i, v.size() - 1)];
 }
 
 /** Mean of v over [b, e). */
@@ -121,6 +193,25 @@ std::string per_tenth_table(const RunReport& rep)
 	return s.str();
 }
 
+/** Per estimator: mean, p50 and p99 of ms/step, peak RSS and minor page faults per step. */
+std::string cost_table(const RunReport& rep)
+{
+	std::ostringstream s;
+	s << "| estimator | W | ms/step mean | p50 | p99 | peak RSS (MiB) | minor page faults / step |\n";
+	s << "|---|---:|---:|---:|---:|---:|---:|\n";
+	for (const auto& r : rep.rows)
+	{
+		if (r.trajectory == "lagged" || r.step_ms.empty()) continue;
+		const auto it = row_resources().find(r.label);
+		const bool known = it != row_resources().end();
+		s << "| " << row_name(r) << " | " << window_cell(r) << " | " << fmt("%.2f", r.ms_per_step) << " | "
+		  << fmt("%.2f", quantile_of(r.step_ms, 0.5)) << " | " << fmt("%.2f", quantile_of(r.step_ms, 0.99)) << " | "
+		  << (known && it->second.peak_rss_mib >= 0 ? fmt("%.0f", it->second.peak_rss_mib) : "–") << " | "
+		  << (known ? fmt("%.0f", double(it->second.minor_faults) / double(r.step_ms.size())) : "–") << " |\n";
+	}
+	return s.str();
+}
+
 /** Label suffix of the rows run with covariance recovery off (--covariance-off). */
 constexpr const char* kCovarianceOff = " (covariances off)";
 
@@ -163,6 +254,8 @@ std::string tables(const RunReport& rep, const std::string& title)
 	s << "`" << rep.rawlog << "`: " << rep.steps << " steps, " << rep.distinct_landmarks << " landmarks observed, "
 	  << rep.readings << " readings.\n\n";
 	s << timing_table(rep);
+	s << "\nCost per step (peak RSS: the process's while that estimator ran, the rawlog in memory included):\n\n";
+	s << cost_table(rep);
 	s << "\nPer-step cost along the run (mean ms/step over each tenth of the steps):\n\n";
 	s << per_tenth_table(rep);
 	s << "\n";
@@ -301,12 +394,15 @@ void run_part(const RunOptions& o, const BenchInput& in, std::size_t n, RunRepor
 	if (o.windows.empty() && !o.run_ekf) return;
 	auto part = in.log;
 	if (n && n < part.steps.size()) part.steps.resize(n);
-	auto r = swba::apps::run_estimators(o, part, in.gt, std::cerr);
+	std::string label_suffix = part.steps.size() < in.log.steps.size() ? " (first " + std::to_string(part.steps.size()) + " steps)" : "";
+	label_suffix += suffix;
+	ResourceMeter meter;
+	swba::apps::RunControl control;
+	control.row_done = [&](const RunReport& partial) { meter.rows_done(partial, label_suffix); };
+	auto r = swba::apps::run_estimators(o, part, in.gt, std::cerr, control);
 	for (auto& row : r.rows)
 	{
-		if (part.steps.size() < in.log.steps.size())
-			row.label += " (first " + std::to_string(part.steps.size()) + " steps)";
-		row.label += suffix;
+		row.label += label_suffix;
 		rep.rows.push_back(std::move(row));
 	}
 }
