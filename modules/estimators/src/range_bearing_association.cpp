@@ -41,6 +41,13 @@ Eigen::Matrix3d reading_point_covariance(const RangeBearingMeasurement& z, const
 	return J * sigma.cwiseAbs2().asDiagonal() * J.transpose();
 }
 
+/** Squared Mahalanobis distance of a reading (point `z`, covariance `R`, both reading_dof-sized) from a
+ * prediction (point `y`, its block `S` of the predictions' joint covariance). */
+double mahalanobis(const Eigen::VectorXd& z, const Eigen::MatrixXd& R, const Eigen::Vector3d& y, const Eigen::MatrixXd& S)
+{
+	const Eigen::VectorXd e = z - y.head(z.size());
+	return e.dot((S + R).ldlt().solve(e));
+}
 }  // namespace
 
 Eigen::Vector3d RangeBearingGraph::in_sensor_frame(const double* pose_x, const mrpt::poses::CPose3D& sensor,
@@ -165,14 +172,6 @@ Eigen::MatrixXd RangeBearingGraph::JointPrediction::covariance_of(int a, int b, 
 	return S;
 }
 
-double RangeBearingGraph::JointPrediction::distance(int j, const Observation& o, int dim) const
-{
-	const Eigen::VectorXd e = (reading_point(o.z) - points[static_cast<std::size_t>(j)]).head(dim);
-	const Eigen::MatrixXd S =
-		covariance_of(j, j, dim) + reading_point_covariance(o.z, o.sigma).topLeftCorner(dim, dim);
-	return e.dot(S.ldlt().solve(e));
-}
-
 void RangeBearingGraph::retest_held(std::size_t k, StepSummary& sum)
 {
 	std::vector<PredictionTarget> targets;
@@ -188,13 +187,17 @@ void RangeBearingGraph::retest_held(std::size_t k, StepSummary& sum)
 	if (targets.empty()) return;
 	const JointPrediction pred = predict_jointly(k, targets);
 	if (!pred.ok) return;  // they stay held (counted), re-tested after the solve
+	const int dim = reading_dof();
 	for (std::size_t j = 0; j < holding.size(); j++)
 	{
 		Landmark& lm = *holding[j];
+		const Eigen::MatrixXd S = pred.covariance_of(static_cast<int>(j), static_cast<int>(j), dim);
 		std::vector<Observation> still;
 		for (const auto& h : lm.held)
 		{
-			if (h.pose_step == k && pred.distance(static_cast<int>(j), h, reading_dof()) <= gate_threshold_)
+			if (h.pose_step == k &&
+				mahalanobis(reading_point(h.z).head(dim), reading_point_covariance(h.z, h.sigma).topLeftCorner(dim, dim),
+							pred.points[j], S) <= gate_threshold_)
 			{
 				admit(lm, h);
 				sum.gated--;
@@ -244,11 +247,15 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 	const double gate = chi2_quantile(opt_.gate_probability, dim);
 	std::vector<std::vector<std::pair<double, int>>> compatible(readings.size());
 	for (int j = 0; j < static_cast<int>(cand.size()); j++)
+	{
+		const Eigen::MatrixXd S = pred.covariance_of(j, j, dim);
 		for (std::size_t i = 0; i < readings.size(); i++)
 		{
-			const double d2 = pred.distance(j, readings[i].second, dim);
+			const double d2 =
+				mahalanobis(prob.readings[i], prob.reading_covariances[i], pred.points[static_cast<std::size_t>(j)], S);
 			if (d2 <= gate) compatible[i].push_back({d2, j});
 		}
+	}
 	constexpr std::size_t kMaxCandidates = 3;
 	std::set<int> chosen;
 	for (auto& c : compatible)

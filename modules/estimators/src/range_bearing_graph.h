@@ -242,8 +242,6 @@ class RangeBearingGraph
 		std::vector<Eigen::MatrixXd> own;  ///< per target, noise that is not a window variable's
 		/** The reading_dof-sized block (a, b) of the predictions' joint covariance. */
 		Eigen::MatrixXd covariance_of(int a, int b, int dim) const;
-		/** Squared Mahalanobis distance of reading `o` (as a point in the sensor frame) from target j. */
-		double distance(int j, const Observation& o, int dim) const;
 	};
 	JointPrediction predict_jointly(std::size_t k, const std::vector<PredictionTarget>& targets);
 	/** Known IDs: the readings of step k that admit_reading held (its pose covariance is the odometry's
