@@ -286,4 +286,68 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 		assigned.push_back(id);
 	}
 }
+
+void RangeBearingGraph::reassociate(StepSummary& sum)
+{
+	if (association_ == DataAssociation::Ids || association_ == DataAssociation::Auto || !opt_.reassociate) return;
+	// The pose steps each landmark has a reading from: a scan sees a landmark once, so a reading never
+	// moves to a landmark its own step already observes.
+	std::map<std::int32_t, std::set<std::size_t>> seen_at;
+	for (const auto& [id, lm] : landmarks_)
+	{
+		for (const auto& o : lm.obs) seen_at[id].insert(o.pose_step);
+		for (const auto& h : lm.held) seen_at[id].insert(h.pose_step);
+	}
+	struct Move
+	{
+		std::int32_t from, to;
+		FactorId factor;
+	};
+	std::vector<Move> moves;
+	for (const auto& [id, lm] : landmarks_)
+		for (const auto& o : lm.obs)
+		{
+			if (gate_distance(lm, o, nullptr) <= gate_threshold_) continue;
+			std::int32_t best = -1;
+			double best_d2 = gate_threshold_;
+			for (const auto& [other, cand] : landmarks_)
+			{
+				if (other == id || seen_at[other].count(o.pose_step)) continue;
+				const double d2 = gate_distance(cand, o, nullptr);
+				if (d2 <= best_d2)
+				{
+					best = other;
+					best_d2 = d2;
+				}
+			}
+			if (best < 0) continue;
+			moves.push_back({id, best, o.factor});
+			seen_at[best].insert(o.pose_step);
+		}
+	Problem& problem = smoother_.problem();
+	for (const Move& m : moves)
+	{
+		Landmark& from = landmarks_.at(m.from);
+		const auto it = std::find_if(from.obs.begin(), from.obs.end(), [&](const Observation& o) { return o.factor == m.factor; });
+		Observation o = *it;
+		from.obs.erase(it);
+		problem.remove_factor(o.factor);
+		assigned_ids_.at(o.pose_step).at(o.reading) = m.to;
+		admit(landmarks_.at(m.to), o);
+		sum.reassociated++;
+		counts_.reassociated++;
+	}
+	// A landmark left with no reading is determined by nothing but the marginal prior, if it is in it;
+	// otherwise it is no longer a landmark of the estimate.
+	const auto& prior = smoother_.prior();
+	for (const Move& m : moves)
+	{
+		const auto it = landmarks_.find(m.from);
+		if (it == landmarks_.end() || !it->second.obs.empty()) continue;
+		if (prior.installed() && prior.index_of(it->second.var) >= 0) continue;
+		const VariableId v = it->second.var;
+		forget_landmark(v);
+		smoother_.remove_variable(v);
+	}
+}
 }  // namespace swba::estimators::detail

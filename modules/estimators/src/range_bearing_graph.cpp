@@ -210,7 +210,8 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 	else
 		sigma = opt_.sensor.resolve(step);
 	std::vector<std::pair<std::int32_t, Observation>> readings;
-	for (const auto& rd : step.readings) readings.push_back({rd.landmark_id, {k, {rd.range, rd.yaw, rd.pitch}, sigma, -1}});
+	for (const auto& rd : step.readings)
+		readings.push_back({rd.landmark_id, {k, {rd.range, rd.yaw, rd.pitch}, sigma, -1, readings.size()}});
 	assigned_ids_.resize(k + 1);
 	std::vector<bool> matched(readings.size(), false);
 	if (associating)

@@ -30,6 +30,7 @@ struct Observation
 	RangeBearingMeasurement z;
 	Eigen::Vector3d sigma;
 	FactorId factor = -1;
+	std::size_t reading = 0;  ///< index among its step's readings (assigned_ids()[pose_step][reading])
 };
 
 struct Landmark
@@ -85,6 +86,12 @@ class RangeBearingGraph
 	/** After a solve: the held readings that now pass the gate enter the window (counted in
 	 * sum.readmitted; their factors act from the next solve). */
 	void readmit_held(StepSummary& sum);
+	/** Data association only (nn, jcbb; options().reassociate): after a solve, a reading in the window
+	 * that fails the χ² gate against the landmark it was given, at the current estimate, and passes it
+	 * against another landmark (the one it fits best, which has no reading of the same step) is moved
+	 * there; assigned_ids() follows. Its factor acts from the next solve; a landmark left with no
+	 * reading and not in the marginal prior is removed. Counted in sum.reassociated. */
+	void reassociate(StepSummary& sum);
 	/** Before pose step `k` is marginalised: its held readings and unconfirmed first readings are
 	 * dropped for good (counted). */
 	void expire_readings_at(std::size_t k);

@@ -55,6 +55,7 @@ struct SlidingWindowEstimator::Impl
 			keep_covariances(opt().gauge == GaugeMode::Free ? graph.covariances(covariance_request()) : u.covariance,
 							 sum);
 		if (graph.gate_on_entry()) graph.readmit_held(sum);
+		graph.reassociate(sum);
 	}
 
 	/** The poses whose covariance a step reports: the newest (online) and, when it is about to leave,

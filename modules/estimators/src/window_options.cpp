@@ -106,6 +106,10 @@ IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& 
 									 "data association of the readings: auto (the readings' IDs if they have "
 									 "them, else jcbb), ids, nn or jcbb (doc/association.md)",
 									 "data association", [](auto& o) -> auto& { return o.association; }),
+		{section, "reassociate", "bool",
+		 "data association: move a window reading that no longer fits its landmark to the one it fits "
+		 "(doc/association.md)",
+		 [](const S& v, O& o) { o.reassociate = parse_bool(v); }, [](const O& o) { return format_bool(o.reassociate); }},
 	};
 }
 }  // namespace swba::estimators

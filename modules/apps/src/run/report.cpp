@@ -161,6 +161,7 @@ ordered_json readings_object(const estimators::ReadingCounts& c)
 	j["processed"] = c.readings;
 	j["gated"] = c.gated;
 	j["readmitted"] = c.readmitted;
+	j["reassociated"] = c.reassociated;
 	j["unconfirmed"] = c.unconfirmed;
 	j["excluded"] = c.excluded;
 	j["down_weighted"] = c.down_weighted;

@@ -155,7 +155,10 @@ void add_association_quality(RunReport& report, const io::Rawlog& rawlog, const 
 					  "associated), %zu landmarks for %zu true, %zu duplicate, %zu spurious",
 					  r.label.c_str(), 100.0 * q.fraction_correct(), q.correct, q.associated, q.associated, q.readings,
 					  q.landmarks, q.true_landmarks, q.duplicates, q.spurious);
-		report.notes.push_back(buf);
+		std::string note = buf;
+		if (r.name == "window" && r.reading_counts)
+			note += ", " + std::to_string(r.reading_counts->reassociated) + " re-associated in the window";
+		report.notes.push_back(note);
 	}
 }
 

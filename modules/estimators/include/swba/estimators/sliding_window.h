@@ -138,6 +138,11 @@ struct SlidingWindowOptions
 	 * the first step with readings has an ID for each, else Jcbb. The batch uses the IDs it is given
 	 * (swba run gives it the window's decisions). */
 	DataAssociation association = DataAssociation::Auto;
+	/** Data association only: after each solve, a reading of a window pose that fails the χ² gate against
+	 * the landmark it was given and passes it against another is moved there (doc/association.md,
+	 * "Re-association"). Decisions are revisited while their pose is in the window, not after it left.
+	 * Default true. */
+	bool reassociate = true;
 
 	/** The χ² bound of the gate for readings of `dof` rows (reading_dof of the model). */
 	double gate_threshold(int dof) const;
@@ -152,7 +157,8 @@ struct SlidingWindowOptions
 	/** The INI keys of the window's own options in `section`: landmarks, model, gauge, gauge_prior_weight,
 	 * marginalization_threshold. The members solver, sensor and odometry have their own keys
 	 * (SolverOptions::ini_keys etc.); window_size, policy and FEJ are chosen per run by the application.
-	 * Also the outlier keys: gate, gate_probability, robust_loss, robust_probability; and covariances. */
+	 * Also the outlier keys: gate, gate_probability, robust_loss, robust_probability; covariances;
+	 * association and reassociate. */
 	static IniKeys<SlidingWindowOptions> ini_keys(const std::string& section);
 };
 
@@ -181,6 +187,7 @@ struct StepSummary
 	int prior_only_landmarks = 0;   ///< landmarks held out of this step's LM solve (eliminate_prior_only_landmarks)
 	int gated = 0;                  ///< readings held out by the χ² gate on arrival this step
 	int readmitted = 0;             ///< held readings that passed the gate after this step's solve and entered
+	int reassociated = 0;           ///< readings moved to another landmark after this step's solve (reassociate)
 	int down_weighted = 0;          ///< readings that entered the marginal prior this step beyond the loss's scale
 	/** Factors the marginalisation could not evaluate at the current values (residual undefined or not
 	 * finite there): dropped with the marginalised variables, their information lost. Counted, never
@@ -196,6 +203,7 @@ struct ReadingCounts
 	 * solution. */
 	std::size_t gated = 0;
 	std::size_t readmitted = 0;     ///< window: of the gated, those that passed after a later solve
+	std::size_t reassociated = 0;   ///< window, data association: readings moved to another landmark (reassociate)
 	/** First readings of a landmark that no later reading confirmed while their pose was in the window
 	 * (window only; most are landmarks seen once, which carry no information). */
 	std::size_t unconfirmed = 0;
