@@ -133,6 +133,18 @@ swba_cli_case(association_after_drift 0
   ARGS run ${_out}/da_drift/da_6D_600_seed2.rawlog --max-steps 150 --windows 10 --causal --no-ekf --no-batch --no-plots
        --no-progress --out ${_out}/da_drift/run)
 set_tests_properties(apps.cli.association_after_drift PROPERTIES FIXTURES_REQUIRED da_drift)
+# Nearest neighbour on the same run creates one duplicate landmark (a reading after the drift outside
+# every gate, then confirmed); re-association inside the window merges it back (2 readings moved).
+swba_cli_case(association_nn_merges_duplicate 0
+  REGEX "window W=10: association 100\\.00 % correct .* 20 landmarks for 20 true, 0 duplicate, 0 spurious, 2 re-associated in the window"
+  ARGS run ${_out}/da_drift/da_6D_600_seed2.rawlog --max-steps 150 --windows 10 --association nn --no-ekf --no-batch
+       --no-plots --no-progress --out ${_out}/da_drift/run_nn)
+swba_cli_case(association_nn_keeps_duplicate 0
+  REGEX "window W=10: association 99\\.55 % correct .* 21 landmarks for 20 true, 1 duplicate, 0 spurious, 0 re-associated in the window"
+  ARGS run ${_out}/da_drift/da_6D_600_seed2.rawlog --max-steps 150 --windows 10 --association nn --no-ekf --no-batch
+       --config ${_data}/no_reassociate.ini --no-plots --no-progress --out ${_out}/da_drift/run_nn_kept)
+set_tests_properties(apps.cli.association_nn_merges_duplicate apps.cli.association_nn_keeps_duplicate
+  PROPERTIES FIXTURES_REQUIRED da_drift)
 
 # The output directory is created and checked before any estimator runs: the full demo with the
 # causal optimum (minutes of estimation) must fail at once (TIMEOUT), naming the directory and why.

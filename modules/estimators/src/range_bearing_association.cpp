@@ -13,6 +13,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace swba::estimators::detail
 {
@@ -59,48 +60,64 @@ Eigen::Vector3d RangeBearingGraph::in_sensor_frame(const double* pose_x, const m
 	return {lx, ly, lz};
 }
 
+std::vector<VariableId> RangeBearingGraph::target_variables(const PredictionTarget& t) const
+{
+	if (!t.lm) return {poses_[t.first->pose_step].var};
+	if (is_world_point(t.lm->var)) return {t.lm->var};
+	return {t.lm->var, poses_[t.lm->anchor_step].var};
+}
+
+Eigen::Vector3d RangeBearingGraph::predict_target(std::size_t k, const PredictionTarget& t, VariableId v,
+												  const double* xv) const
+{
+	const Problem& problem = smoother_.problem();
+	const auto value = [&](VariableId u) { return u == v ? xv : problem.value(u); };
+	Eigen::Vector3d p;
+	if (t.lm && is_world_point(t.lm->var))
+		p = Eigen::Map<const Eigen::Vector3d>(value(t.lm->var));
+	else if (t.lm)
+	{
+		const PoseRecord& a = poses_[t.lm->anchor_step];
+		p = inverse_depth_to_world(value(a.var), a.sensor, Eigen::Map<const Eigen::Vector3d>(value(t.lm->var)));
+	}
+	else
+	{
+		const PoseRecord& C = poses_[t.first->pose_step];
+		p = inverse_depth_to_world(value(C.var), C.sensor, inverse_depth_from_measurement(t.first->z));
+	}
+	const PoseRecord& P = poses_[k];
+	return in_sensor_frame(value(P.var), P.sensor, p);
+}
+
+Eigen::MatrixXd RangeBearingGraph::provisional_noise(std::size_t k, const Observation& first) const
+{
+	const Problem& problem = smoother_.problem();
+	const PoseRecord& C = poses_[first.pose_step];
+	const PoseRecord& P = poses_[k];
+	const mrpt::poses::CPose3D sc = SE3Manifold::to_pose(problem.value(C.var)) + C.sensor;
+	const mrpt::poses::CPose3D sn = SE3Manifold::to_pose(problem.value(P.var)) + P.sensor;
+	const Eigen::Matrix3d R = sn.getRotationMatrix().asEigen().transpose() * sc.getRotationMatrix().asEigen();
+	const int dim = reading_dof();
+	return (R * reading_point_covariance(first.z, first.sigma) * R.transpose()).topLeftCorner(dim, dim);
+}
+
 RangeBearingGraph::JointPrediction RangeBearingGraph::predict_jointly(std::size_t k,
 																	  const std::vector<PredictionTarget>& targets)
 {
 	const int dim = reading_dof();
-	Problem& problem = smoother_.problem();
-	const PoseRecord& P = poses_[k];
-	// The variables a target's world point depends on.
-	const auto vars_of = [&](const PredictionTarget& t) -> std::vector<VariableId> {
-		if (!t.lm) return {poses_[t.first->pose_step].var};
-		if (is_world_point(t.lm->var)) return {t.lm->var};
-		return {t.lm->var, poses_[t.lm->anchor_step].var};
-	};
-	// A target's prediction in the new pose's sensor frame, with variable `v` at `xv` (v < 0: all at
-	// their current values; the new pose at its dead-reckoned value).
-	const auto predict = [&](const PredictionTarget& t, VariableId v, const double* xv) -> Eigen::Vector3d {
-		const auto value = [&](VariableId u) { return u == v ? xv : problem.value(u); };
-		Eigen::Vector3d p;
-		if (t.lm && is_world_point(t.lm->var))
-			p = Eigen::Map<const Eigen::Vector3d>(value(t.lm->var));
-		else if (t.lm)
-		{
-			const PoseRecord& a = poses_[t.lm->anchor_step];
-			p = inverse_depth_to_world(value(a.var), a.sensor, Eigen::Map<const Eigen::Vector3d>(value(t.lm->var)));
-		}
-		else
-		{
-			const PoseRecord& C = poses_[t.first->pose_step];
-			p = inverse_depth_to_world(value(C.var), C.sensor, inverse_depth_from_measurement(t.first->z));
-		}
-		return in_sensor_frame(value(P.var), P.sensor, p);
-	};
+	const Problem& problem = smoother_.problem();
+	const VariableId pose = poses_[k].var;
 	// The joint covariance of the new pose and every variable a target depends on, from the window's
 	// information at the current estimate: the new pose's marginal is the prediction of its odometry
 	// from the previous estimate, and the cross-covariances say how a pose error moves the landmarks
 	// seen with it (the drift since a landmark was last seen, with the heading's lever arm).
-	std::vector<VariableId> group{P.var};
-	std::map<VariableId, int> at{{P.var, 0}};
-	int D = problem.variable(P.var).manifold->tangent_size();
+	std::vector<VariableId> group{pose};
+	std::map<VariableId, int> at{{pose, 0}};
+	int D = problem.variable(pose).manifold->tangent_size();
 	std::vector<std::vector<VariableId>> vars;
 	for (const auto& t : targets)
 	{
-		vars.push_back(vars_of(t));
+		vars.push_back(target_variables(t));
 		for (VariableId v : vars.back())
 			if (at.emplace(v, D).second)
 			{
@@ -119,17 +136,21 @@ RangeBearingGraph::JointPrediction RangeBearingGraph::predict_jointly(std::size_
 	}
 	out.ok = true;
 	out.covariance = cov.blocks.front();
-	// Predictions and their Jacobians on the group's tangent (central differences).
+	// Predictions and their Jacobians on the group's tangent (central differences); a provisional
+	// landmark's own noise: its reading's, turned from its pose's sensor frame into the new one (the
+	// reading is not a variable of the window).
 	const int n = static_cast<int>(targets.size());
 	out.points.resize(targets.size());
 	out.jacobian = Eigen::MatrixXd::Zero(n * dim, D);
+	out.own.assign(targets.size(), Eigen::MatrixXd::Zero(dim, dim));
 	std::vector<double> xp, xm;
 	for (int j = 0; j < n; j++)
 	{
 		const auto tj = static_cast<std::size_t>(j);
 		const PredictionTarget& t = targets[tj];
-		out.points[tj] = predict(t, -1, nullptr);
-		std::vector<VariableId> with_pose{P.var};
+		out.points[tj] = predict_target(k, t, -1, nullptr);
+		if (t.first) out.own[tj] = provisional_noise(k, *t.first);
+		std::vector<VariableId> with_pose{pose};
 		with_pose.insert(with_pose.end(), vars[tj].begin(), vars[tj].end());
 		for (VariableId v : with_pose)
 		{
@@ -145,22 +166,9 @@ RangeBearingGraph::JointPrediction RangeBearingGraph::predict_jointly(std::size_
 				d[c] = -1e-6;
 				M.plus(x, d.data(), xm.data());
 				out.jacobian.block(j * dim, at.at(v) + c, dim, 1) =
-					((predict(t, v, xp.data()) - predict(t, v, xm.data())) / 2e-6).head(dim);
+					((predict_target(k, t, v, xp.data()) - predict_target(k, t, v, xm.data())) / 2e-6).head(dim);
 			}
 		}
-	}
-	// A provisional landmark's own noise: its reading's, turned from its pose's sensor frame into the
-	// new one (the reading is not a variable of the window).
-	out.own.assign(targets.size(), Eigen::MatrixXd::Zero(dim, dim));
-	for (std::size_t j = 0; j < targets.size(); j++)
-	{
-		const Observation* first = targets[j].first;
-		if (!first) continue;
-		const PoseRecord& C = poses_[first->pose_step];
-		const mrpt::poses::CPose3D sc = SE3Manifold::to_pose(problem.value(C.var)) + C.sensor;
-		const mrpt::poses::CPose3D sn = SE3Manifold::to_pose(problem.value(P.var)) + P.sensor;
-		const Eigen::Matrix3d R = sn.getRotationMatrix().asEigen().transpose() * sc.getRotationMatrix().asEigen();
-		out.own[j] = (R * reading_point_covariance(first->z, first->sigma) * R.transpose()).topLeftCorner(dim, dim);
 	}
 	return out;
 }
@@ -284,70 +292,6 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 			matched[i] ? ids[static_cast<std::size_t>(kept[static_cast<std::size_t>(match[i])])] : next_landmark_id_++;
 		readings[i].first = id;
 		assigned.push_back(id);
-	}
-}
-
-void RangeBearingGraph::reassociate(StepSummary& sum)
-{
-	if (association_ == DataAssociation::Ids || association_ == DataAssociation::Auto || !opt_.reassociate) return;
-	// The pose steps each landmark has a reading from: a scan sees a landmark once, so a reading never
-	// moves to a landmark its own step already observes.
-	std::map<std::int32_t, std::set<std::size_t>> seen_at;
-	for (const auto& [id, lm] : landmarks_)
-	{
-		for (const auto& o : lm.obs) seen_at[id].insert(o.pose_step);
-		for (const auto& h : lm.held) seen_at[id].insert(h.pose_step);
-	}
-	struct Move
-	{
-		std::int32_t from, to;
-		FactorId factor;
-	};
-	std::vector<Move> moves;
-	for (const auto& [id, lm] : landmarks_)
-		for (const auto& o : lm.obs)
-		{
-			if (gate_distance(lm, o, nullptr) <= gate_threshold_) continue;
-			std::int32_t best = -1;
-			double best_d2 = gate_threshold_;
-			for (const auto& [other, cand] : landmarks_)
-			{
-				if (other == id || seen_at[other].count(o.pose_step)) continue;
-				const double d2 = gate_distance(cand, o, nullptr);
-				if (d2 <= best_d2)
-				{
-					best = other;
-					best_d2 = d2;
-				}
-			}
-			if (best < 0) continue;
-			moves.push_back({id, best, o.factor});
-			seen_at[best].insert(o.pose_step);
-		}
-	Problem& problem = smoother_.problem();
-	for (const Move& m : moves)
-	{
-		Landmark& from = landmarks_.at(m.from);
-		const auto it = std::find_if(from.obs.begin(), from.obs.end(), [&](const Observation& o) { return o.factor == m.factor; });
-		Observation o = *it;
-		from.obs.erase(it);
-		problem.remove_factor(o.factor);
-		assigned_ids_.at(o.pose_step).at(o.reading) = m.to;
-		admit(landmarks_.at(m.to), o);
-		sum.reassociated++;
-		counts_.reassociated++;
-	}
-	// A landmark left with no reading is determined by nothing but the marginal prior, if it is in it;
-	// otherwise it is no longer a landmark of the estimate.
-	const auto& prior = smoother_.prior();
-	for (const Move& m : moves)
-	{
-		const auto it = landmarks_.find(m.from);
-		if (it == landmarks_.end() || !it->second.obs.empty()) continue;
-		if (prior.installed() && prior.index_of(it->second.var) >= 0) continue;
-		const VariableId v = it->second.var;
-		forget_landmark(v);
-		smoother_.remove_variable(v);
 	}
 }
 }  // namespace swba::estimators::detail

@@ -86,11 +86,13 @@ class RangeBearingGraph
 	/** After a solve: the held readings that now pass the gate enter the window (counted in
 	 * sum.readmitted; their factors act from the next solve). */
 	void readmit_held(StepSummary& sum);
-	/** Data association only (nn, jcbb; options().reassociate): after a solve, a reading in the window
-	 * that fails the χ² gate against the landmark it was given, at the current estimate, and passes it
-	 * against another landmark (the one it fits best, which has no reading of the same step) is moved
-	 * there; assigned_ids() follows. Its factor acts from the next solve; a landmark left with no
-	 * reading and not in the marginal prior is removed. Counted in sum.reassociated. */
+	/** Data association only (nn, jcbb; options().reassociate), after a solve, at the current estimate:
+	 * a reading in the window that fails the χ² gate against the landmark it was given and passes it
+	 * against another (the one it fits best, which has no reading of the same step) is moved there; and
+	 * a landmark not in the marginal prior all of whose readings pass the gate against an older
+	 * landmark, observed at none of their steps, is merged into it (a duplicate). assigned_ids()
+	 * follows; the factors act from the next solve; a landmark left with no reading and not in the prior
+	 * is removed. Moved readings are counted in sum.reassociated. */
 	void reassociate(StepSummary& sum);
 	/** Before pose step `k` is marginalised: its held readings and unconfirmed first readings are
 	 * dropped for good (counted). */
@@ -251,6 +253,14 @@ class RangeBearingGraph
 		Eigen::MatrixXd covariance_of(int a, int b, int dim) const;
 	};
 	JointPrediction predict_jointly(std::size_t k, const std::vector<PredictionTarget>& targets);
+	/** The window variables target `t`'s world point depends on. */
+	std::vector<VariableId> target_variables(const PredictionTarget& t) const;
+	/** Target `t` in the sensor frame of pose step k, with variable `v` at `xv` (v < 0: every variable
+	 * at its current value; pose k's is its dead-reckoned one before the step's solve). */
+	Eigen::Vector3d predict_target(std::size_t k, const PredictionTarget& t, VariableId v, const double* xv) const;
+	/** A provisional target's noise in the sensor frame of pose step k: its first reading's, rotated
+	 * (reading_dof-sized). */
+	Eigen::MatrixXd provisional_noise(std::size_t k, const Observation& first) const;
 	/** Known IDs: the readings of step k that admit_reading held (its pose covariance is the odometry's
 	 * alone) are tested again against the window's joint covariance (predict_jointly); those inside the
 	 * gate enter now. After a long stretch without readings the drift is far beyond one step's
@@ -263,6 +273,21 @@ class RangeBearingGraph
 									const Eigen::Vector3d& p) const;
 	/** World XYZ of landmark `lm` at the current estimate. */
 	Eigen::Vector3d world_position(const Landmark& lm) const;
+	/** A reading (by its factor) that reassociate() moves from one landmark to another. */
+	struct ReadingMove
+	{
+		std::int32_t from, to;
+		FactorId factor;
+	};
+	/** The pose steps each landmark has a reading from (admitted or held): a scan sees a landmark once. */
+	std::map<std::int32_t, std::set<std::size_t>> steps_seen() const;
+	/** reassociate(): readings outside the gate of their landmark and inside another's; `seen_at` gains
+	 * each move's step. */
+	std::vector<ReadingMove> misfit_moves(std::map<std::int32_t, std::set<std::size_t>>& seen_at) const;
+	/** reassociate(): the readings of each duplicate landmark, to the older one they all fit; landmarks
+	 * that `moved` changes are left for the next step. */
+	std::vector<ReadingMove> duplicate_merges(const std::map<std::int32_t, std::set<std::size_t>>& seen_at,
+											  const std::vector<ReadingMove>& moved) const;
 	/** Adds the factor of `o` to `lm` and records it as admitted. */
 	void admit(Landmark& lm, Observation o);
 	/** Adds the landmark of a first reading, initialised from it at pose step k. */
