@@ -39,7 +39,7 @@ std::string non_default_ini()
 		   "[window]\nsizes = 3,4\npolicy = both\nfej = off\nlandmarks = xyz\nmodel = 2d\ngauge = prior\ngauge_prior_weight = 5\n"
 		   "marginalization_threshold = 0.5\ngate = false\ngate_probability = 0.5\nrobust_loss = cauchy\n"
 		   "robust_probability = 0.75\ncovariances = false\n"
-		   "association = nn\n"
+		   "association = nn\nreassociate = false\n"
 		   "[solver]\nmax_iterations = 4\nfunction_tolerance = 0.5\ngradient_tolerance = 0.25\n"
 		   "parameter_tolerance = 0.125\nlinear_solver = dense-normal\ndense_max_dim = 9\nthreads = 2\n"
 		   "[ekf]\nenabled = false\nmethods = kfIKF\nini_file = x.ini\n"
@@ -75,6 +75,7 @@ TEST(RunConfig, NonDefaultIniSetsEveryKey)
 	EXPECT_DOUBLE_EQ(o.window.robust_probability, 0.75);
 	EXPECT_FALSE(o.window.covariances);
 	EXPECT_EQ(o.window.association, swba::estimators::DataAssociation::NearestNeighbour);
+	EXPECT_FALSE(o.window.reassociate);
 }
 
 TEST(RunConfig, DefaultIniHoldsTheBuiltInDefaults)
