@@ -37,8 +37,10 @@ namespace swba::estimators
 /** Options of MrptStepConverter. */
 struct MrptStepConverterOptions
 {
-	/** Readings with landmarkID < 0 are invalid (dropped and counted). Default true: the estimator does
-	 * no data association. Same meaning as io::RawlogReaderOptions::require_landmark_ids. */
+	/** Readings with landmarkID < 0 are invalid (dropped and counted). Default true. Set it false to give
+	 * them to the window's data association (SlidingWindowOptions::association: Auto takes it when a
+	 * reading has no ID; doc/association.md), as `swba run` does. Same meaning as
+	 * io::RawlogReaderOptions::require_landmark_ids. */
 	bool require_landmark_ids = true;
 };
 
