@@ -224,6 +224,11 @@ set_tests_properties(apps.sweep.parallel_merge_equals_sequential PROPERTIES PASS
 add_test(NAME apps.sweep.nees_parallel_equals_sequential
   COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/nees_sweep.sh $<TARGET_FILE:swba> ${_out}/nees_sweep)
 set_tests_properties(apps.sweep.nees_parallel_equals_sequential PROPERTIES PASS_REGULAR_EXPRESSION "OK: " TIMEOUT 300)
+# The same output whatever the thread count (with and without landmark IDs).
+add_test(NAME apps.cli.threads_give_identical_output
+  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/threads_identical.sh $<TARGET_FILE:swba> ${_out}/threads ${_demo}
+          ${SWBA_MRPT_DATASETS}/kf-slam_6D_demo_DA.rawlog)
+set_tests_properties(apps.cli.threads_give_identical_output PROPERTIES PASS_REGULAR_EXPRESSION "OK: " TIMEOUT 300)
 # Command-line conventions of the new commands.
 swba_cli_case(jobs_help 0 REGEX "--simulate.*--seeds.*--windows.*--config.*--out.*--swba" ARGS jobs --help)
 swba_cli_case(merge_help 0 REGEX "--out.*--no-plots" ARGS merge --help)
