@@ -198,6 +198,31 @@ void route_mrpt_log(Ekf& ekf, const EkfSlamOptions& options, EkfSlamResult& res)
 	});
 }
 
+/** The landmark each reading of `step` went to in the filter's last update (EkfSlamResult::assigned_ids):
+ * MRPT's data association maps reading j to a landmark index (data_association_full_covariance is given
+ * the predictions' landmark indices, predictions_IDs, and returns those) or inserts a landmark from it. */
+template <class Ekf>
+std::vector<std::int32_t> assigned_landmarks(const Ekf& ekf, const io::RawlogStep& step)
+{
+	const auto& da = ekf.getLastDataAssociation();
+	std::vector<std::int32_t> ids;
+	for (std::size_t j = 0; j < step.readings.size(); j++)
+	{
+		std::int32_t id = step.readings[j].landmark_id;
+		if (id < 0)
+		{
+			const auto a = da.results.associations.find(j);
+			const auto n = da.newly_inserted_landmarks.find(j);
+			if (a != da.results.associations.end())
+				id = static_cast<std::int32_t>(a->second);
+			else if (n != da.newly_inserted_landmarks.end())
+				id = static_cast<std::int32_t>(n->second);
+		}
+		ids.push_back(id);
+	}
+	return ids;
+}
+
 /** Feeds the first n steps to the filter, recording each pose and the time spent inside
  * processActionObservation; stops at (and records) the first failure. */
 template <class Ekf>
@@ -241,6 +266,7 @@ void process_steps(Ekf& ekf, const std::vector<io::RawlogStep>& steps, std::size
 		res.times.push_back(steps[k].time());
 		res.poses.push_back(robot_pose(ekf));
 		res.covariances.push_back(robot_covariance(ekf));
+		res.assigned_ids.push_back(assigned_landmarks(ekf, steps[k]));
 		res.steps_processed++;
 		if (options.progress) options.progress(k + 1, n);
 	}

@@ -183,6 +183,8 @@ RunRow run_ekf_row(const RowContext& ctx, const std::string& method, std::vector
 	for (std::size_t i = 0; i < res.poses.size(); i++) row.estimate.push_back(res.times[i], res.poses[i]);
 	row.covariance = res.covariances;
 	row.landmarks = res.landmarks_final;
+	// With data association, its decisions are compared with the truth like the window's.
+	if (ctx.base.association != estimators::DataAssociation::Ids) row.assigned_ids = res.assigned_ids;
 	row.seconds = res.seconds;
 	row.steps = res.steps_processed;
 	row.ms_per_step = res.ms_per_step;

@@ -67,6 +67,10 @@ struct EkfSlamResult
 	 * or 3×3 over (x, y, φ) in 2D) in the window's tangent convention (PoseCovariance) through
 	 * quaternion_to_tangent_jacobian / the SE(2) one. */
 	std::vector<PoseCovariance> covariances;
+	/** assigned_ids[i][j]: the landmark reading j of step i went to, for every processed step: its own ID
+	 * when it has one (the filter takes it), else what MRPT's data association gave it — the landmark's
+	 * index in the filter's map (matched, or inserted from this reading) — or −1 (neither). */
+	std::vector<std::vector<std::int32_t>> assigned_ids;
 	/** The map at the end: each landmark's mean and covariance (the filter's 3×3 / 2×2 block), by ID. */
 	std::map<std::int32_t, LandmarkEstimate> landmarks_final;
 	std::size_t steps_total = 0;  ///< steps given (after max_steps)
