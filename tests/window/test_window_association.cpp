@@ -4,14 +4,13 @@
 #include <swba/estimators/data_association.h>
 #include <swba/estimators/ekf_slam.h>
 #include <swba/estimators/sliding_window.h>
+#include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <vector>
 
 namespace
@@ -186,16 +185,8 @@ TEST(WindowAssociation, AReadingGivenTheWrongLandmarkIsReassociatedAndTheEstimat
 swba::estimators::ReadingIds demo_da_truth(const swba::io::Rawlog& rawlog)
 {
 	const std::string ds = SWBA_MRPT_DATASETS;
-	std::vector<mrpt::poses::CPose3D> path;  // row k = pose of observation k
-	std::ifstream f(ds + "/kf-slam_6D_demo_DA_ground_truth_robot_path.txt");
-	std::string line;
-	while (std::getline(f, line))
-	{
-		if (line.empty() || line[0] == '%') continue;
-		std::istringstream in(line);
-		double x, y, z, yaw, pitch, roll;
-		if (in >> x >> y >> z >> yaw >> pitch >> roll) path.emplace_back(x, y, z, yaw, pitch, roll);
-	}
+	// Row k of the simulator's robot path: the pose of observation k.
+	const auto path = swba::eval::read_mrpt_ground_truth(ds + "/kf-slam_6D_demo_DA_ground_truth_robot_path.txt").poses;
 	return swba::estimators::true_landmarks_of_readings(
 		rawlog, path, swba::estimators::read_landmark_ground_truth(ds + "/kf-slam_6D_demo_DA_ground_truth.txt"), 0.5);
 }
