@@ -61,7 +61,7 @@ struct RunCommandLine
 											"kfIKF (Default: kfEKFAlaDavison,kfEKFNaive)",
 											false, "", "NAME,..."};
 	TCLAP::ValueArg<std::string> policy{
-		"", "policy", "landmark policy of the window: slam, constant-time or both (Default: slam)", false, "", "P"};
+		"", "policy", "landmark policy of the window: slam, constant-time, map, a comma-separated list, both or all (Default: slam)", false, "", "P"};
 	TCLAP::ValueArg<std::string> fej{"", "fej", "first-estimate Jacobians: on, off or both (Default: on)", false, "",
 									 "on|off|both"};
 	TCLAP::ValueArg<std::string> landmarks{

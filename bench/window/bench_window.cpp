@@ -266,7 +266,7 @@ std::string tables(const RunReport& rep, const std::string& title)
 }
 
 /** How many steps of a rawlog to read, and how many of those the EKF and the SLAM-policy window get
- * (0 = all; the constant-time window always gets every step read). */
+ * (0 = all; the constant-time and map windows always get every step read). */
 struct StepLimits
 {
 	std::size_t read = 0, ekf = 0, slam_window = 0;
@@ -275,7 +275,7 @@ struct StepLimits
 /** The command line: every option, and the run options and large rawlog it names. */
 struct BenchCommandLine
 {
-	TCLAP::CmdLine cmd{"Sliding window (both landmark policies) vs MRPT's EKF: ms per step with APE, on "
+	TCLAP::CmdLine cmd{"Sliding window (every landmark policy) vs MRPT's EKF: ms per step with APE, on "
 					   "kf-slam_6D_demo and a 5000-step / 400-landmark simulated rawlog.",
 					   ' ', "0.1.0"};
 	TCLAP::ValueArg<std::string> small{"", "small", "the small rawlog. (Default: kf-slam_6D_demo.rawlog)", false,
@@ -287,7 +287,8 @@ struct BenchCommandLine
 	TCLAP::ValueArg<std::string> rawlog_dir{"", "rawlog-dir", "where generated rawlogs go. (Default: <build>/rawlogs)",
 											false, SWBA_BENCH_RAWLOG_DIR, "DIR"};
 	TCLAP::ValueArg<std::string> windows{"", "windows", "window sizes. (Default: 10,30)", false, "10,30", "LIST"};
-	TCLAP::ValueArg<std::string> policy{"", "policy", "slam, constant-time or both. (Default: both)", false, "both", "P"};
+	TCLAP::ValueArg<std::string> policy{"", "policy", "slam, constant-time, map, a comma-separated list, both or all. (Default: all)",
+										false, "all", "P"};
 	TCLAP::ValueArg<std::string> ekf_method{"", "ekf-method", "EKF methods. (Default: kfEKFAlaDavison)", false,
 											"kfEKFAlaDavison", "NAMES"};
 	TCLAP::ValueArg<int> large_steps{"", "large-steps", "steps of the large rawlog to run (0 = all). (Default: 0)",
@@ -431,8 +432,8 @@ void run_covariance_pair(const RunOptions& w, const BenchInput& in, std::size_t 
 		for (auto& row : r->rows) rep.rows.push_back(std::move(row));
 }
 
-/** One rawlog: the EKF, the SLAM window and the constant-time window each on its own number of
- * steps, rows merged into one report. */
+/** One rawlog: the EKF and the window of each policy, each on its own number of steps, rows merged
+ * into one report. */
 RunReport run_rawlog(const RunOptions& base, const std::string& rawlog, const StepLimits& limits, bool compare_covariance)
 {
 	const BenchInput in = read_input(rawlog, limits.read);

@@ -205,7 +205,10 @@ TEST(RunConfig, ListParsing)
 	}
 	EXPECT_EQ(parse_policy_list("both").size(), 2u);
 	EXPECT_EQ(parse_policy_list("constant-time"), std::vector<LandmarkPolicy>{LandmarkPolicy::ConstantTime});
-	EXPECT_THROW(parse_policy_list("slam,constant-time"), std::invalid_argument);
+	EXPECT_EQ(parse_policy_list("map, slam,map"), (std::vector<LandmarkPolicy>{LandmarkPolicy::Map, LandmarkPolicy::Slam}));
+	EXPECT_EQ(parse_policy_list("all").size(), 3u);
+	EXPECT_THROW(parse_policy_list("slam,fast"), std::invalid_argument);
+	EXPECT_THROW(parse_policy_list(","), std::invalid_argument);
 	EXPECT_EQ(parse_fej_list("both"), (std::vector<bool>{true, false}));
 	EXPECT_EQ(parse_fej_list("off"), std::vector<bool>{false});
 	EXPECT_THROW(parse_fej_list("sometimes"), std::invalid_argument);

@@ -108,6 +108,7 @@ std::map<std::int32_t, Eigen::Vector3d> RangeBearingGraph::landmark_positions() 
 {
 	std::map<std::int32_t, Eigen::Vector3d> out;
 	for (const auto& [id, lm] : landmarks_) out[id] = world_position(lm);
+	for (const auto& [id, m] : map_) out[id] = m.position;  // never in the state as well
 	return out;
 }
 
@@ -201,7 +202,13 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 	smoother_.add_state(step.time(), vnew);
 	const Eigen::MatrixXd odo_info = add_odometry_factor(step, vprev, vnew);
 	if (step.readings.empty()) return;
-	if (association_ == DataAssociation::Auto) association_ = resolve_association(opt_.association, step);
+	if (association_ == DataAssociation::Auto)
+	{
+		association_ = resolve_association(opt_.association, step);
+		if (opt_.policy == LandmarkPolicy::Map && association_ != DataAssociation::Ids)
+			throw std::invalid_argument("step " + std::to_string(step.index) +
+										": a reading without a landmark ID; the map landmark policy needs IDs");
+	}
 	const bool associating = association_ != DataAssociation::Ids;
 	if (gate_on_entry_ || associating) newest_pose_cov_ = odo_info.inverse();
 	Eigen::Vector3d sigma;
@@ -223,6 +230,11 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 				throw std::invalid_argument("step " + std::to_string(step.index) +
 											": a reading without a landmark ID (data association: nn or jcbb)");
 			assigned_ids_[k].push_back(id);
+			if (opt_.policy == LandmarkPolicy::Map && !landmarks_.count(id) && map_.count(id))
+			{
+				restore_from_map(id);
+				sum.landmarks_from_map++;
+			}
 		}
 	sum.readings += static_cast<int>(readings.size());
 	counts_.readings += readings.size();

@@ -46,6 +46,13 @@ struct Landmark
 	std::vector<Observation> held;
 };
 
+/** Map policy: a landmark that left the state, as its marginal when it left. */
+struct MapLandmark
+{
+	Eigen::Vector3d position;
+	Eigen::Matrix3d covariance;  ///< of the world position (planar: z row and column zero)
+};
+
 struct PoseRecord
 {
 	double time;
@@ -135,6 +142,12 @@ class RangeBearingGraph
 
 	/** Forgets the landmark of variable `v` (being marginalised); false when `v` is no landmark. */
 	bool forget_landmark(VariableId v);
+	/** Map policy: keeps the marginals of the landmarks of `vars` (about to be marginalised) in the map,
+	 * from one covariance recovery of the current problem. Returns how many could not be kept (their
+	 * covariance not recovered or not positive definite): they are forgotten, as ConstantTime does. */
+	int keep_in_map(const std::set<VariableId>& vars);
+	/** Map policy: the landmarks that left the state, by ID. */
+	const std::map<std::int32_t, MapLandmark>& map() const { return map_; }
 	/** Drops the observations whose factors are in `removed`. */
 	void forget_observations(const std::set<FactorId>& removed);
 
@@ -292,6 +305,15 @@ class RangeBearingGraph
 	void admit(Landmark& lm, Observation o);
 	/** Adds the landmark of a first reading, initialised from it at pose step k. */
 	Landmark& add_landmark(std::int32_t id, const Observation& o);
+	/** Map policy: landmark `id` (in the map, not in the state) re-enters as a world point at its map
+	 * position with a prior factor of its map covariance; it leaves the map. */
+	Landmark& restore_from_map(std::int32_t id);
+	/** Requests, for `lms`, the world-position covariance (a world point: its block; inverse depth: the
+	 * joint block with its anchor), and turns the result into LandmarkEstimates. */
+	std::map<std::int32_t, LandmarkEstimate> estimates_of(const std::vector<const Landmark*>& lms, double* seconds);
+	/** ∂(world position of `lm`)/∂(its variable's tangent[, its anchor pose's tangent]): 3 × (tangent of
+	 * lm.var) for a world point, 3 × (3 + 6) for inverse depth (λ, then the anchor). */
+	Eigen::MatrixXd world_position_jacobian(const Landmark& lm) const;
 	/** Builds the factor of observation `o` of landmark `lm` (given its current anchor). */
 	FactorId add_observation_factor(const Landmark& lm, const Observation& o);
 	/** Moves landmark `lm` onto variable `v` (its new parameterisation, already set in `lm`): removes
@@ -305,6 +327,7 @@ class RangeBearingGraph
 	std::map<VariableId, std::size_t> step_of_;
 	std::map<std::int32_t, Landmark> landmarks_;
 	std::map<VariableId, std::int32_t> landmark_of_var_;
+	std::map<std::int32_t, MapLandmark> map_;  ///< Map policy (landmark_policy.cpp)
 	mrpt::poses::CPose3D last_sensor_;
 	std::shared_ptr<const LossFunction> loss_;  ///< of the reading factors (set with the model)
 	double robust_scale_sq_ = 0;                ///< χ²_dof(robust_probability) (set with the model)

@@ -77,8 +77,8 @@ struct SlidingWindowEstimator::Impl
 	}
 
 	/** The landmark policy at the oldest pose (step o) leaving: landmarks anchored there are
-	 * re-anchored or switched to world XYZ; with ConstantTime, the landmarks no other window pose
-	 * observes leave with it (returned). */
+	 * re-anchored or switched to world XYZ; with ConstantTime and Map, the landmarks no other window
+	 * pose observes leave with it (returned). */
 	std::set<VariableId> landmarks_leaving_with(std::size_t o, StepSummary& sum)
 	{
 		std::set<VariableId> leaving;
@@ -89,7 +89,7 @@ struct SlidingWindowEstimator::Impl
 			for (const auto& ob : lm.obs)
 				if (ob.pose_step != o) newest = std::max(newest, ob.pose_step);
 			const bool seen_in_window = newest != o;
-			if (opt().policy == LandmarkPolicy::ConstantTime && !seen_in_window)
+			if (opt().policy != LandmarkPolicy::Slam && !seen_in_window)
 			{
 				leaving.insert(lm.var);
 				continue;
@@ -120,6 +120,7 @@ struct SlidingWindowEstimator::Impl
 		lagged.push_back(oldest.time, graph.pose(oldest.var));
 		if (opt().covariances) lagged_cov.push_back(leaving_cov);
 		if (oldest.var == graph.poses().front().var) initial_left = graph.pose(oldest.var);
+		if (opt().policy == LandmarkPolicy::Map) sum.landmarks_not_mapped = graph.keep_in_map(leaving);
 		const smoother::MarginalizationSummary m = smoother().marginalize_oldest(leaving);
 		sum.unevaluable_factors = m.unevaluable_factors;
 		graph.forget_observations(m.removed);

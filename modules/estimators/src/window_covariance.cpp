@@ -74,11 +74,54 @@ PoseCovariance RangeBearingGraph::pose_covariance(VariableId v, const Covariance
 
 std::map<std::int32_t, LandmarkEstimate> RangeBearingGraph::landmark_estimates(double* seconds)
 {
-	CovarianceRequest request;
-	std::vector<const Landmark*> order;
-	for (const auto& [id, lm] : landmarks_)
+	std::vector<const Landmark*> all;
+	for (const auto& [id, lm] : landmarks_) all.push_back(&lm);
+	std::map<std::int32_t, LandmarkEstimate> out = estimates_of(all, seconds);
+	for (const auto& [id, m] : map_) out[id] = {m.position, m.covariance};  // never in the state as well
+	return out;
+}
+
+Eigen::MatrixXd RangeBearingGraph::world_position_jacobian(const Landmark& lm) const
+{
+	const Problem& problem = smoother_.problem();
+	const bool world = opt_.landmarks == LandmarkParameterization::Xyz || lm.world_xyz || model_ == PoseModel::Planar;
+	if (world)
 	{
-		order.push_back(&lm);
+		const auto c = base_coordinates(*problem.variable(lm.var).manifold);
+		Eigen::MatrixXd J = Eigen::MatrixXd::Zero(3, static_cast<Eigen::Index>(c.size()));
+		for (std::size_t i = 0; i < c.size(); i++) J(c[i], static_cast<Eigen::Index>(i)) = 1;
+		return J;
+	}
+	// p = R_a (R_s l(λ) + t_s) + t_a: ∂p/∂λ = R_a R_s ∂l/∂λ (central differences), and with the
+	// anchor's right perturbation ∂p/∂ρ = R_a, ∂p/∂ω = −R_a [q]× (q = R_s l + t_s).
+	const auto& anchor = poses_[lm.anchor_step];
+	const double* xa = problem.value(anchor.var);
+	const Eigen::Vector3d lam = Eigen::Map<const Eigen::Vector3d>(problem.value(lm.var));
+	const auto Ta = se3_view(xa);
+	const Eigen::Matrix3d Ra = Ta.leftCols<3>();
+	Eigen::MatrixXd J(3, 9);
+	for (int k = 0; k < 3; k++)
+	{
+		const double h = 1e-6 * std::max(1.0, std::abs(lam[k]));
+		Eigen::Vector3d lp = lam, lm_ = lam;
+		lp[k] += h;
+		lm_[k] -= h;
+		J.col(k) = (inverse_depth_to_world(xa, anchor.sensor, lp) - inverse_depth_to_world(xa, anchor.sensor, lm_)) / (2 * h);
+	}
+	const Eigen::Vector3d q = Ra.transpose() * (world_position(lm) - Ta.col(3));
+	J.middleCols<3>(3) = Ra;
+	J.rightCols<3>() = -Ra * skew(q);
+	return J;
+}
+
+std::map<std::int32_t, LandmarkEstimate> RangeBearingGraph::estimates_of(const std::vector<const Landmark*>& lms,
+																		 double* seconds)
+{
+	CovarianceRequest request;
+	const std::vector<const Landmark*>& order = lms;
+	for (const Landmark* l : lms)
+	{
+		const Landmark& lm = *l;
 		const bool world = opt_.landmarks == LandmarkParameterization::Xyz || lm.world_xyz || model_ == PoseModel::Planar;
 		if (world)
 			request.groups.push_back({lm.var});
@@ -98,34 +141,8 @@ std::map<std::int32_t, LandmarkEstimate> RangeBearingGraph::landmark_estimates(d
 			e.covariance.setConstant(std::numeric_limits<double>::quiet_NaN());
 			continue;
 		}
-		const Eigen::MatrixXd& B = r.blocks[g];
-		if (request.groups[g].size() == 1)
-		{
-			const auto c = base_coordinates(*smoother_.problem().variable(lm.var).manifold);
-			e.covariance = embed(B, c, c, 3);
-			continue;
-		}
-		// p = R_a (R_s l(λ) + t_s) + t_a: ∂p/∂λ = R_a R_s ∂l/∂λ (central differences), and with the
-		// anchor's right perturbation ∂p/∂ρ = R_a, ∂p/∂ω = −R_a [q]× (q = R_s l + t_s).
-		const auto& anchor = poses_[lm.anchor_step];
-		const double* xa = smoother_.problem().value(anchor.var);
-		const Eigen::Vector3d lam = Eigen::Map<const Eigen::Vector3d>(smoother_.problem().value(lm.var));
-		const auto Ta = se3_view(xa);
-		const Eigen::Matrix3d Ra = Ta.leftCols<3>();
-		Eigen::Matrix<double, 3, 9> J;
-		for (int k = 0; k < 3; k++)
-		{
-			const double h = 1e-6 * std::max(1.0, std::abs(lam[k]));
-			Eigen::Vector3d lp = lam, lm_ = lam;
-			lp[k] += h;
-			lm_[k] -= h;
-			J.col(k) = (inverse_depth_to_world(xa, anchor.sensor, lp) - inverse_depth_to_world(xa, anchor.sensor, lm_)) /
-					   (2 * h);
-		}
-		const Eigen::Vector3d q = Ra.transpose() * (e.position - Ta.col(3));
-		J.middleCols<3>(3) = Ra;
-		J.rightCols<3>() = -Ra * skew(q);
-		e.covariance = J * B * J.transpose();
+		const Eigen::MatrixXd J = world_position_jacobian(lm);
+		e.covariance = J * r.blocks[g] * J.transpose();
 		e.covariance = 0.5 * (e.covariance + e.covariance.transpose()).eval();
 	}
 	return out;

@@ -37,8 +37,9 @@ std::string join(const std::vector<std::string>& items, const std::string& sep)
 
 std::string policies_text(const std::vector<estimators::LandmarkPolicy>& p)
 {
-	if (p.size() == 2) return "both";
-	return p.empty() ? "" : to_string(p.front());
+	std::vector<std::string> names;
+	for (const auto policy : p) names.push_back(to_string(policy));
+	return join(names, ",");
 }
 
 std::string fej_text(const std::vector<bool>& f)
@@ -100,8 +101,9 @@ IniKeys<RunOptions> window_sweep_keys()
 		{"window", "sizes", "poses", "window sizes W, comma-separated, each >= 2",
 		 [](const S& v, O& o) { o.windows = parse_window_list(v, "sizes"); },
 		 [](const O& o) { return windows_text(o.windows); }},
-		{"window", "policy", "slam|constant-time|both",
-		 "landmark policy: slam keeps every landmark, constant-time marginalises landmarks no window pose sees",
+		{"window", "policy", "slam|constant-time|map, a comma-separated list, both or all",
+		 "landmark policy: slam keeps every landmark, constant-time marginalises landmarks no window pose sees, "
+		 "map does too and keeps their marginals for when they are seen again",
 		 [](const S& v, O& o) { o.policies = parse_policy_list(v); },
 		 [](const O& o) { return policies_text(o.policies); }},
 		{"window", "fej", "on|off|both", "first-estimate Jacobians for factors touching the marginal prior",
@@ -289,16 +291,29 @@ std::vector<int> parse_window_list(const std::string& text, const std::string& w
 
 std::vector<estimators::LandmarkPolicy> parse_policy_list(const std::string& text)
 {
+	using estimators::LandmarkPolicy;
 	const std::string t = trim(text);
-	if (t == "both") return {estimators::LandmarkPolicy::Slam, estimators::LandmarkPolicy::ConstantTime};
-	try
+	if (t == "both") return {LandmarkPolicy::Slam, LandmarkPolicy::ConstantTime};
+	if (t == "all") return {LandmarkPolicy::Slam, LandmarkPolicy::ConstantTime, LandmarkPolicy::Map};
+	std::vector<LandmarkPolicy> out;
+	std::stringstream ss(t);
+	std::string item;
+	while (std::getline(ss, item, ','))
 	{
-		return {estimators::parse_landmark_policy(t)};
+		LandmarkPolicy p;
+		try
+		{
+			p = estimators::parse_landmark_policy(trim(item));
+		}
+		catch (const std::exception&)
+		{
+			throw std::invalid_argument("unknown policy '" + trim(item) +
+										"' (expected slam, constant-time, map, a comma-separated list of them, both or all)");
+		}
+		if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
 	}
-	catch (const std::exception&)
-	{
-		throw std::invalid_argument("unknown policy '" + t + "' (expected slam, constant-time or both)");
-	}
+	if (out.empty()) throw std::invalid_argument("no landmark policy given");
+	return out;
 }
 
 std::vector<bool> parse_fej_list(const std::string& text)

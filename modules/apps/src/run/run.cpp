@@ -46,6 +46,22 @@ void note_unevaluable_factors(const RunRow& online, std::vector<std::string>& no
 						std::to_string(steps) + " steps) and were dropped: their information is lost");
 }
 
+/** Map policy: how many landmarks re-entered from the map, and a note for those whose marginal could
+ * not be kept (forgotten, as the constant-time policy does). */
+void note_map(const RunRow& online, std::vector<std::string>& notes)
+{
+	long returned = 0, lost = 0;
+	for (const auto& s : online.step_summaries)
+	{
+		returned += s.landmarks_from_map;
+		lost += s.landmarks_not_mapped;
+	}
+	if (returned > 0) notes.push_back(online.label + ": " + std::to_string(returned) + " landmarks re-entered from the map");
+	if (lost > 0)
+		notes.push_back(online.label + ": " + std::to_string(lost) +
+						" landmarks left the window without a usable covariance and were not kept in the map");
+}
+
 /** The window for each policy × FEJ × W: online and lagged rows. */
 void add_window_rows(const RowContext& ctx, RunReport& report, const RunControl& control)
 {
@@ -61,6 +77,7 @@ void add_window_rows(const RowContext& ctx, RunReport& report, const RunControl&
 				wo.first_estimate_jacobians = fej;
 				auto [online, lagged] = run_window_rows(ctx, wo, combos);
 				note_unevaluable_factors(online, report.notes);
+				if (policy == estimators::LandmarkPolicy::Map) note_map(online, report.notes);
 				report.rows.push_back(std::move(online));
 				report.rows.push_back(std::move(lagged));
 				if (control.row_done) control.row_done(report);

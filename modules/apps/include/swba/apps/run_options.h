@@ -87,7 +87,8 @@ void load_run_config_text(const std::string& text, const std::string& source_nam
 /** "5,10,20" → {5, 10, 20}. Throws std::invalid_argument naming `what` on an empty list, a
  * non-integer or a window < 2. */
 std::vector<int> parse_window_list(const std::string& text, const std::string& what = "windows");
-/** "slam" | "constant-time" | "both". */
+/** "slam" | "constant-time" | "map", a comma-separated list of them (duplicates dropped), "both"
+ * (slam, constant-time) or "all". */
 std::vector<estimators::LandmarkPolicy> parse_policy_list(const std::string& text);
 /** "on" | "off" | "both" (also true/false/1/0). */
 std::vector<bool> parse_fej_list(const std::string& text);

@@ -61,16 +61,22 @@ enum class LandmarkPolicy
 	Slam,
 	/** Landmarks that no pose left in the window observes are marginalised with the oldest pose
 	 * (VIO style): the state and the cost per step stay bounded, the map is forgotten. */
-	ConstantTime
+	ConstantTime,
+	/** As ConstantTime, but a landmark that leaves the state is kept in a map as its marginal (world
+	 * point, 3×3 covariance), and one seen again re-enters from it (a prior factor of that marginal):
+	 * the cost per step stays bounded and the map is remembered, without its cross-correlations (an
+	 * approximation, doc/window.md "Map policy"). Needs landmark IDs (DataAssociation::Ids) and the
+	 * fixed or prior gauge. */
+	Map
 };
-constexpr std::array<EnumName<LandmarkPolicy>, 2> enum_names(LandmarkPolicy)
+constexpr std::array<EnumName<LandmarkPolicy>, 3> enum_names(LandmarkPolicy)
 {
-	return {{{LandmarkPolicy::Slam, "slam"}, {LandmarkPolicy::ConstantTime, "constant-time"}}};
+	return {{{LandmarkPolicy::Slam, "slam"}, {LandmarkPolicy::ConstantTime, "constant-time"}, {LandmarkPolicy::Map, "map"}}};
 }
 
 
 LandmarkParameterization parse_landmark_parameterization(const std::string& s);  ///< "inverse-depth" | "xyz"
-LandmarkPolicy parse_landmark_policy(const std::string& s);                      ///< "slam" | "constant-time"
+LandmarkPolicy parse_landmark_policy(const std::string& s);                      ///< "slam" | "constant-time" | "map"
 std::string to_string(LandmarkParameterization p);
 std::string to_string(LandmarkPolicy p);
 
@@ -183,7 +189,9 @@ struct StepSummary
 	int readings = 0;               ///< observations added this step
 	int reanchored = 0;             ///< landmarks re-anchored this step (including those switched to world XYZ)
 	int landmarks_to_world = 0;     ///< of these, landmarks in the prior switched to world XYZ (inverse depth only)
-	int marginalized_landmarks = 0; ///< landmarks marginalised this step (ConstantTime)
+	int marginalized_landmarks = 0; ///< landmarks marginalised this step (ConstantTime, Map)
+	int landmarks_from_map = 0;     ///< landmarks seen again that re-entered the state from the map (Map)
+	int landmarks_not_mapped = 0;   ///< of the marginalised, those whose marginal could not be kept (Map)
 	int prior_only_landmarks = 0;   ///< landmarks held out of this step's LM solve (eliminate_prior_only_landmarks)
 	int gated = 0;                  ///< readings held out by the χ² gate on arrival this step
 	int readmitted = 0;             ///< held readings that passed the gate after this step's solve and entered
