@@ -1,8 +1,11 @@
 // The map landmark policy (LandmarkPolicy::Map): the constant-time window plus a map of the marginals
-// of the landmarks that left it, from which a landmark seen again re-enters.
+// of the landmarks that left it, from which a landmark seen again re-enters (by its ID, or found by
+// data association).
 #include <gtest/gtest.h>
 
 #include "window_test_utils.h"
+
+#include <swba/estimators/association_quality.h>
 
 #include <Eigen/LU>
 
@@ -103,29 +106,44 @@ TEST(WindowMap, MapLandmarksAreReportedWithTheirMarginals)
 	}
 }
 
-TEST(WindowMap, DataAssociationAndTheFreeGaugeAreRefused)
+TEST(WindowMap, TheFreeGaugeIsRefused)
 {
 	SlidingWindowOptions o = w10(LandmarkPolicy::Map);
-	o.association = DataAssociation::NearestNeighbour;
-	EXPECT_THROW(o.validate(), std::invalid_argument);
-	o = w10(LandmarkPolicy::Map);
 	o.gauge = GaugeMode::Free;
 	EXPECT_THROW(o.validate(), std::invalid_argument);
 	o.gauge = GaugeMode::Prior;
 	EXPECT_NO_THROW(o.validate());
-	// Auto association resolves to data association on readings without IDs: refused at that step.
+}
+
+TEST(WindowMap, DataAssociationFindsTheMapLandmarks)
+{
+	// The demo without its landmark IDs: data association (JCBB) must match readings of landmarks that
+	// left for the map to their map entries. Without the map among the candidates each return would be
+	// a new landmark, a duplicate of the one in the map.
 	SlidingWindowEstimator est(w10(LandmarkPolicy::Map));
+	ReadingIds truth;
+	int returned = 0;
 	for (io::RawlogStep s : test::demo_rawlog().steps)
 	{
-		for (auto& r : s.readings) r.landmark_id = -1;
-		if (s.readings.empty())
-			est.process(s);
-		else
+		truth.emplace_back();
+		for (auto& r : s.readings)
 		{
-			EXPECT_THROW(est.process(s), std::invalid_argument);
-			break;
+			truth.back().push_back(r.landmark_id);
+			r.landmark_id = -1;
 		}
+		returned += est.process(s).landmarks_from_map;
 	}
+	est.finish();
+	const AssociationQuality q = evaluate_association(est.assigned_ids(), truth);
+	std::printf("[map] data association: %zu of %zu readings associated, %zu correct, %zu landmarks, %zu duplicates, "
+				"%d returns\n",
+				q.associated, q.readings, q.correct, q.landmarks, q.duplicates, returned);
+	EXPECT_GT(returned, 0);
+	EXPECT_EQ(q.readings, test::demo_rawlog().readings);
+	EXPECT_GE(q.fraction_correct(), 0.99);
+	EXPECT_GE(static_cast<double>(q.associated), 0.99 * static_cast<double>(q.readings));
+	EXPECT_EQ(q.duplicates, 0u);
+	EXPECT_EQ(q.landmarks, 48u);
 }
 
 TEST(WindowMap, PlanarLandmarksReturnOnTheirPlane)

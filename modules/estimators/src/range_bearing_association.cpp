@@ -62,6 +62,7 @@ Eigen::Vector3d RangeBearingGraph::in_sensor_frame(const double* pose_x, const m
 
 std::vector<VariableId> RangeBearingGraph::target_variables(const PredictionTarget& t) const
 {
+	if (t.map) return {};
 	if (!t.lm) return {poses_[t.first->pose_step].var};
 	if (is_world_point(t.lm->var)) return {t.lm->var};
 	return {t.lm->var, poses_[t.lm->anchor_step].var};
@@ -73,7 +74,9 @@ Eigen::Vector3d RangeBearingGraph::predict_target(std::size_t k, const Predictio
 	const Problem& problem = smoother_.problem();
 	const auto value = [&](VariableId u) { return u == v ? xv : problem.value(u); };
 	Eigen::Vector3d p;
-	if (t.lm && is_world_point(t.lm->var))
+	if (t.map)
+		p = t.map->position;
+	else if (t.lm && is_world_point(t.lm->var))
 		p = Eigen::Map<const Eigen::Vector3d>(value(t.lm->var));
 	else if (t.lm)
 	{
@@ -99,6 +102,15 @@ Eigen::MatrixXd RangeBearingGraph::provisional_noise(std::size_t k, const Observ
 	const Eigen::Matrix3d R = sn.getRotationMatrix().asEigen().transpose() * sc.getRotationMatrix().asEigen();
 	const int dim = reading_dof();
 	return (R * reading_point_covariance(first.z, first.sigma) * R.transpose()).topLeftCorner(dim, dim);
+}
+
+Eigen::MatrixXd RangeBearingGraph::map_noise(std::size_t k, const MapLandmark& m) const
+{
+	const PoseRecord& P = poses_[k];
+	const mrpt::poses::CPose3D sn = SE3Manifold::to_pose(smoother_.problem().value(P.var)) + P.sensor;
+	const Eigen::Matrix3d R = sn.getRotationMatrix().asEigen().transpose();
+	const int dim = reading_dof();
+	return (R * m.covariance * R.transpose()).topLeftCorner(dim, dim);
 }
 
 RangeBearingGraph::JointPrediction RangeBearingGraph::predict_jointly(std::size_t k,
@@ -150,6 +162,7 @@ RangeBearingGraph::JointPrediction RangeBearingGraph::predict_jointly(std::size_
 		const PredictionTarget& t = targets[tj];
 		out.points[tj] = predict_target(k, t, -1, nullptr);
 		if (t.first) out.own[tj] = provisional_noise(k, *t.first);
+		if (t.map) out.own[tj] = map_noise(k, *t.map);
 		std::vector<VariableId> with_pose{pose};
 		with_pose.insert(with_pose.end(), vars[tj].begin(), vars[tj].end());
 		for (VariableId v : with_pose)
@@ -223,8 +236,9 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 {
 	const int dim = reading_dof();
 	const std::size_t k = readings.front().second.pose_step;
-	// Candidates: the graph's landmarks and the first readings still waiting for confirmation
-	// (provisional landmarks: a world point from one reading at a window pose).
+	// Candidates: the graph's landmarks, the first readings still waiting for confirmation
+	// (provisional landmarks: a world point from one reading at a window pose) and the map's landmarks
+	// (map policy: their marginals, independent of the window, as the map keeps them).
 	std::vector<std::int32_t> ids;
 	std::vector<PredictionTarget> cand;
 	for (const auto& [id, lm] : landmarks_)
@@ -238,6 +252,11 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 			ids.push_back(id);
 			cand.push_back({nullptr, &o});
 		}
+	for (const auto& [id, m] : map_)
+	{
+		ids.push_back(id);
+		cand.push_back({nullptr, nullptr, &m});
+	}
 	const JointPrediction pred = predict_jointly(k, cand);
 	if (!pred.ok)
 		throw std::runtime_error("data association at step " + std::to_string(k) +

@@ -202,13 +202,7 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 	smoother_.add_state(step.time(), vnew);
 	const Eigen::MatrixXd odo_info = add_odometry_factor(step, vprev, vnew);
 	if (step.readings.empty()) return;
-	if (association_ == DataAssociation::Auto)
-	{
-		association_ = resolve_association(opt_.association, step);
-		if (opt_.policy == LandmarkPolicy::Map && association_ != DataAssociation::Ids)
-			throw std::invalid_argument("step " + std::to_string(step.index) +
-										": a reading without a landmark ID; the map landmark policy needs IDs");
-	}
+	if (association_ == DataAssociation::Auto) association_ = resolve_association(opt_.association, step);
 	const bool associating = association_ != DataAssociation::Ids;
 	if (gate_on_entry_ || associating) newest_pose_cov_ = odo_info.inverse();
 	Eigen::Vector3d sigma;
@@ -230,12 +224,14 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 				throw std::invalid_argument("step " + std::to_string(step.index) +
 											": a reading without a landmark ID (data association: nn or jcbb)");
 			assigned_ids_[k].push_back(id);
-			if (opt_.policy == LandmarkPolicy::Map && !landmarks_.count(id) && map_.count(id))
+		}
+	if (opt_.policy == LandmarkPolicy::Map)
+		for (const auto& [id, o] : readings)
+			if (!landmarks_.count(id) && map_.count(id))
 			{
 				restore_from_map(id);
 				sum.landmarks_from_map++;
 			}
-		}
 	sum.readings += static_cast<int>(readings.size());
 	counts_.readings += readings.size();
 	if (gate_on_entry_) centre_gate(readings);

@@ -245,11 +245,13 @@ class RangeBearingGraph
 	 * approximated by the reading noise / (its readings); an unmatched reading gets a new ID. */
 	void associate_readings(std::vector<std::pair<std::int32_t, Observation>>& readings,
 							std::vector<std::int32_t>& assigned, std::vector<bool>& matched);
-	/** What predict_jointly predicts: a graph landmark, or a provisional one (its first reading). */
+	/** What predict_jointly predicts: a graph landmark, a provisional one (its first reading), or a
+	 * landmark of the map (map policy; its marginal is its own noise, it depends on no window variable). */
 	struct PredictionTarget
 	{
 		const Landmark* lm;
 		const Observation* first;
+		const MapLandmark* map = nullptr;
 	};
 	/** Targets predicted in the sensor frame of pose step k (at its current, dead-reckoned value) with
 	 * their joint covariance: Jacobian × the window's joint marginal covariance of the new pose and the
@@ -274,6 +276,9 @@ class RangeBearingGraph
 	/** A provisional target's noise in the sensor frame of pose step k: its first reading's, rotated
 	 * (reading_dof-sized). */
 	Eigen::MatrixXd provisional_noise(std::size_t k, const Observation& first) const;
+	/** A map target's noise in the sensor frame of pose step k: its map covariance, rotated
+	 * (reading_dof-sized). */
+	Eigen::MatrixXd map_noise(std::size_t k, const MapLandmark& m) const;
 	/** Known IDs: the readings of step k that admit_reading held (its pose covariance is the odometry's
 	 * alone) are tested again against the window's joint covariance (predict_jointly); those inside the
 	 * gate enter now. After a long stretch without readings the drift is far beyond one step's

@@ -45,9 +45,6 @@ void SlidingWindowOptions::validate() const
 		throw std::invalid_argument("gate probability must be in (0, 1), got " + std::to_string(gate_probability));
 	if (!(robust_probability > 0 && robust_probability < 1))
 		throw std::invalid_argument("robust-loss probability must be in (0, 1), got " + std::to_string(robust_probability));
-	if (policy == LandmarkPolicy::Map && association != DataAssociation::Auto && association != DataAssociation::Ids)
-		throw std::invalid_argument("the map landmark policy needs the readings' landmark IDs (association ids), got "
-									"association " + std::string(enum_name(association)));
 	if (policy == LandmarkPolicy::Map && gauge == GaugeMode::Free)
 		throw std::invalid_argument("the map landmark policy needs the fixed or the prior gauge: its map is in the frame "
 									"of the first pose, which a free gauge does not hold");

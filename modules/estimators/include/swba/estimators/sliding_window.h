@@ -65,8 +65,8 @@ enum class LandmarkPolicy
 	/** As ConstantTime, but a landmark that leaves the state is kept in a map as its marginal (world
 	 * point, 3×3 covariance), and one seen again re-enters from it (a prior factor of that marginal):
 	 * the cost per step stays bounded and the map is remembered, without its cross-correlations (an
-	 * approximation, doc/window.md "Map policy"). Needs landmark IDs (DataAssociation::Ids) and the
-	 * fixed or prior gauge. */
+	 * approximation, doc/window.md "Map policy"). With data association the map's landmarks are
+	 * candidates too. Needs the fixed or prior gauge. */
 	Map
 };
 constexpr std::array<EnumName<LandmarkPolicy>, 3> enum_names(LandmarkPolicy)
