@@ -59,6 +59,8 @@ swba_run_case(gt_too_short 1
   ARGS ${_demo} --gt ${_data}/gt_30_rows.txt --max-steps 60 --out ${_out}/gt_too_short)
 swba_run_case(missing_gt 1 REGEX "swba run: error: [^\n]*/nonexistent/gt.txt"
   ARGS ${_demo} --gt /nonexistent/gt.txt --max-steps 10 --out ${_out}/missing_gt)
+swba_run_case(map_free_gauge 1 REGEX "swba run: error: the map landmark policy needs the fixed or the prior gauge"
+  ARGS --policy slam,map --gauge free --out ${_out}/map_free_gauge)
 swba_run_case(bad_policy 1 REGEX "swba run: error: unknown policy 'fast' \\(expected slam, constant-time, map, a comma-separated list of them, both or all\\)"
   ARGS --policy fast --out ${_out}/bad_policy)
 swba_run_case(bad_fej 1 REGEX "swba run: error: unknown fej value 'sometimes'" ARGS --fej sometimes --out ${_out}/bad_fej)

@@ -356,6 +356,10 @@ void RunOptions::validate() const
 	if (out_dir.empty()) throw std::invalid_argument("output directory must not be empty");
 	estimators::SlidingWindowOptions w = window;
 	w.window_size = windows.empty() ? 0 : windows.front();
-	w.validate();
+	for (const auto policy : policies)  // a policy may reject the other options (map: the free gauge)
+	{
+		w.policy = policy;
+		w.validate();
+	}
 }
 }  // namespace swba::apps
