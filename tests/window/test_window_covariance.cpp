@@ -8,6 +8,9 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
+#include <cstdio>
+
 using namespace swba;
 using namespace swba::estimators;
 
@@ -138,4 +141,30 @@ TEST(WindowCovariance, BatchEqualsTheUnboundedWindowAtTheSameOptimumForEachGauge
 		EXPECT_FALSE(b.landmarks.empty());
 		EXPECT_GT(b.covariance_seconds, 0);
 	}
+}
+
+TEST(WindowCovariance, LandmarkWorldCovarianceDoesNotDependOnTheParameterisation)
+{
+	// The batch at its optimum, landmarks as inverse depth (world covariance through the anchor pose) and
+	// as world points (their own block): the same problem in two charts, so the same covariance of each
+	// landmark's world position. Fails when the anchor's part of the chain rule is wrong.
+	SlidingWindowOptions o = options(GaugeMode::Fixed, 0);
+	o.solver.function_tolerance = 1e-14;
+	o.solver.max_iterations = 100;
+	o.landmarks = LandmarkParameterization::InverseDepth;
+	const io::Rawlog rawlog = first_steps(30);
+	SlidingWindowOptions xyz = o;
+	xyz.landmarks = LandmarkParameterization::Xyz;
+	const BatchResult id = run_batch(rawlog, o), wp = run_batch(rawlog, xyz);
+	ASSERT_EQ(id.landmarks.size(), wp.landmarks.size());
+	ASSERT_FALSE(id.landmarks.empty());
+	double worst = 0;
+	for (const auto& [lid, e] : id.landmarks)
+	{
+		const auto& f = wp.landmarks.at(lid);
+		EXPECT_LT((e.position - f.position).norm(), 1e-6) << "landmark " << lid;
+		worst = std::max(worst, (e.covariance - f.covariance).norm() / f.covariance.norm());
+	}
+	std::printf("[covariance] landmark world covariance, inverse depth vs xyz: worst relative difference %.3g\n", worst);
+	EXPECT_LT(worst, 1e-6);
 }
