@@ -17,7 +17,7 @@ using namespace swba::estimators;
 
 namespace
 {
-SlidingWindowOptions w10(LandmarkPolicy policy)
+SlidingWindowOptions map_w10(LandmarkPolicy policy)
 {
 	SlidingWindowOptions opt;
 	opt.window_size = 10;
@@ -25,23 +25,23 @@ SlidingWindowOptions w10(LandmarkPolicy policy)
 	return opt;
 }
 
-const char* kDemoGt = "kf-slam_6D_demo_ground_truth_robot_path.txt";
+const char* kMapDemoGt = "kf-slam_6D_demo_ground_truth_robot_path.txt";
 
 /** A window run over the whole demo, finished. */
-struct WindowRun
+struct MapWindowRun
 {
-	explicit WindowRun(const SlidingWindowOptions& o) : est(o)
+	explicit MapWindowRun(const SlidingWindowOptions& o) : est(o)
 	{
 		for (const auto& s : test::demo_rawlog().steps) est.process(s);
 		est.finish();
 	}
 	double online_ape() const
 	{
-		return test::ape_trans_rmse(test::ground_truth(test::dataset(kDemoGt)), est.online_trajectory());
+		return test::ape_trans_rmse(test::ground_truth(test::dataset(kMapDemoGt)), est.online_trajectory());
 	}
 	double lagged_ape() const
 	{
-		return test::ape_trans_rmse(test::ground_truth(test::dataset(kDemoGt)), est.lagged_trajectory());
+		return test::ape_trans_rmse(test::ground_truth(test::dataset(kMapDemoGt)), est.lagged_trajectory());
 	}
 	SlidingWindowEstimator est;
 };
@@ -51,7 +51,7 @@ TEST(WindowMap, IsTheConstantTimeWindowUntilALandmarkReturns)
 {
 	// Keeping a marginal changes nothing in the state: up to the first step a landmark re-enters from the
 	// map, both policies compute the same numbers; from that step on they differ.
-	SlidingWindowEstimator map(w10(LandmarkPolicy::Map)), ct(w10(LandmarkPolicy::ConstantTime));
+	SlidingWindowEstimator map(map_w10(LandmarkPolicy::Map)), ct(map_w10(LandmarkPolicy::ConstantTime));
 	std::size_t marginalised = 0;
 	bool returned = false;
 	for (const auto& s : test::demo_rawlog().steps)
@@ -79,7 +79,7 @@ TEST(WindowMap, RevisitedLandmarksAreNotForgotten)
 	// that leaves (0.069 m); with the map a returning landmark brings its estimate back. Without the
 	// map's cross-correlations it is an approximation of the SLAM policy (0.012 m), not the same
 	// estimate; nothing independent bounds the gap, so the bound is the measured figure + 5 %.
-	const WindowRun map(w10(LandmarkPolicy::Map)), ct(w10(LandmarkPolicy::ConstantTime));
+	const MapWindowRun map(map_w10(LandmarkPolicy::Map)), ct(map_w10(LandmarkPolicy::ConstantTime));
 	int returned = 0;
 	for (const auto& s : map.est.step_summaries()) returned += s.landmarks_from_map;
 	std::printf("[map] W=10 online %.6f lagged %.6f; constant-time %.6f / %.6f; %d returns\n", map.online_ape(),
@@ -93,7 +93,7 @@ TEST(WindowMap, RevisitedLandmarksAreNotForgotten)
 
 TEST(WindowMap, MapLandmarksAreReportedWithTheirMarginals)
 {
-	WindowRun map(w10(LandmarkPolicy::Map));
+	MapWindowRun map(map_w10(LandmarkPolicy::Map));
 	const auto positions = map.est.landmarks();
 	const auto estimates = map.est.landmark_estimates();
 	EXPECT_EQ(positions.size(), 48u);  // every landmark of the demo: in the window or in the map
@@ -108,7 +108,7 @@ TEST(WindowMap, MapLandmarksAreReportedWithTheirMarginals)
 
 TEST(WindowMap, TheFreeGaugeIsRefused)
 {
-	SlidingWindowOptions o = w10(LandmarkPolicy::Map);
+	SlidingWindowOptions o = map_w10(LandmarkPolicy::Map);
 	o.gauge = GaugeMode::Free;
 	EXPECT_THROW(o.validate(), std::invalid_argument);
 	o.gauge = GaugeMode::Prior;
@@ -120,7 +120,7 @@ TEST(WindowMap, DataAssociationFindsTheMapLandmarks)
 	// The demo without its landmark IDs: data association (JCBB) must match readings of landmarks that
 	// left for the map to their map entries. Without the map among the candidates each return would be
 	// a new landmark, a duplicate of the one in the map.
-	SlidingWindowEstimator est(w10(LandmarkPolicy::Map));
+	SlidingWindowEstimator est(map_w10(LandmarkPolicy::Map));
 	ReadingIds truth;
 	int returned = 0;
 	for (io::RawlogStep s : test::demo_rawlog().steps)
@@ -150,7 +150,7 @@ TEST(WindowMap, PlanarLandmarksReturnOnTheirPlane)
 {
 	// kf-slam_demo (2D): the planar model's points are updated in (x, y) only; a map landmark returns
 	// at its height.
-	SlidingWindowEstimator est(w10(LandmarkPolicy::Map));
+	SlidingWindowEstimator est(map_w10(LandmarkPolicy::Map));
 	const io::Rawlog& log = test::cached_rawlog("kf-slam_demo.rawlog");
 	int returned = 0;
 	for (const auto& s : log.steps) returned += est.process(s).landmarks_from_map;
