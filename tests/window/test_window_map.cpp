@@ -10,6 +10,7 @@
 #include <Eigen/LU>
 
 #include <cstdio>
+#include <set>
 #include <stdexcept>
 
 using namespace swba;
@@ -61,12 +62,13 @@ TEST(WindowMap, IsTheConstantTimeWindowUntilALandmarkReturns)
 		marginalised += static_cast<std::size_t>(m.marginalized_landmarks);
 		EXPECT_EQ(m.landmarks_not_mapped, 0);
 		const bool same = map.current_pose() == ct.current_pose();
-		if (m.landmarks_from_map == 0 && !returned)
+		if (m.landmarks_from_map == 0)
 			ASSERT_TRUE(same) << "step " << s.index;
-		else if (!returned)
+		else
 		{
 			returned = true;
 			EXPECT_FALSE(same) << "step " << s.index << ": a landmark re-entered and nothing changed";
+			break;
 		}
 	}
 	EXPECT_TRUE(returned);
@@ -76,17 +78,17 @@ TEST(WindowMap, IsTheConstantTimeWindowUntilALandmarkReturns)
 TEST(WindowMap, RevisitedLandmarksAreNotForgotten)
 {
 	// kf-slam_6D_demo revisits its 48 landmarks for 600 steps. The constant-time window forgets each one
-	// that leaves (0.069 m); with the map a returning landmark brings its estimate back. Without the
-	// map's cross-correlations it is an approximation of the SLAM policy (0.012 m), not the same
-	// estimate; nothing independent bounds the gap, so the bound is the measured figure + 5 %.
-	const MapWindowRun map(map_w10(LandmarkPolicy::Map)), ct(map_w10(LandmarkPolicy::ConstantTime));
+	// that leaves (0.069376 / 0.069233 m, pinned by WindowAccuracy.ConstantTimePolicyKeepsItsMeasuredAccuracy);
+	// with the map a returning landmark brings its estimate back. Without the map's cross-correlations it
+	// is an approximation of the SLAM policy (0.012 m), not the same estimate; nothing independent bounds
+	// the gap, so the bound is the measured figure + 5 %.
+	const MapWindowRun map(map_w10(LandmarkPolicy::Map));
 	int returned = 0;
 	for (const auto& s : map.est.step_summaries()) returned += s.landmarks_from_map;
-	std::printf("[map] W=10 online %.6f lagged %.6f; constant-time %.6f / %.6f; %d returns\n", map.online_ape(),
-				map.lagged_ape(), ct.online_ape(), ct.lagged_ape(), returned);
+	std::printf("[map] W=10 online %.6f lagged %.6f; %d returns\n", map.online_ape(), map.lagged_ape(), returned);
 	EXPECT_GT(returned, 0);
-	EXPECT_LT(map.online_ape(), 0.5 * ct.online_ape());
-	EXPECT_LT(map.lagged_ape(), 0.5 * ct.lagged_ape());
+	EXPECT_LT(map.online_ape(), 0.5 * 0.069376);
+	EXPECT_LT(map.lagged_ape(), 0.5 * 0.069233);
 	EXPECT_LT(map.online_ape(), 1.05 * 0.018688);
 	EXPECT_LT(map.lagged_ape(), 1.05 * 0.016904);
 }
@@ -120,15 +122,21 @@ TEST(WindowMap, DataAssociationFindsTheMapLandmarks)
 	// The demo without its landmark IDs: data association (JCBB) must match readings of landmarks that
 	// left for the map to their map entries. Without the map among the candidates each return would be
 	// a new landmark, a duplicate of the one in the map.
+	// The first 300 steps (a lap and a half: landmarks leave and return many times).
 	SlidingWindowEstimator est(map_w10(LandmarkPolicy::Map));
 	ReadingIds truth;
 	int returned = 0;
-	for (io::RawlogStep s : test::demo_rawlog().steps)
+	std::size_t readings = 0;
+	std::set<std::int32_t> seen;
+	for (std::size_t k = 0; k < 300; k++)
 	{
+		io::RawlogStep s = test::demo_rawlog().steps[k];
+		readings += s.readings.size();
 		truth.emplace_back();
 		for (auto& r : s.readings)
 		{
 			truth.back().push_back(r.landmark_id);
+			seen.insert(r.landmark_id);
 			r.landmark_id = -1;
 		}
 		returned += est.process(s).landmarks_from_map;
@@ -139,11 +147,11 @@ TEST(WindowMap, DataAssociationFindsTheMapLandmarks)
 				"%d returns\n",
 				q.associated, q.readings, q.correct, q.landmarks, q.duplicates, returned);
 	EXPECT_GT(returned, 0);
-	EXPECT_EQ(q.readings, test::demo_rawlog().readings);
+	EXPECT_EQ(q.readings, readings);
 	EXPECT_GE(q.fraction_correct(), 0.99);
 	EXPECT_GE(static_cast<double>(q.associated), 0.99 * static_cast<double>(q.readings));
 	EXPECT_EQ(q.duplicates, 0u);
-	EXPECT_EQ(q.landmarks, 48u);
+	EXPECT_EQ(q.landmarks, seen.size());
 }
 
 TEST(WindowMap, PlanarLandmarksReturnOnTheirPlane)
