@@ -92,23 +92,22 @@ Eigen::Vector3d RangeBearingGraph::predict_target(std::size_t k, const Predictio
 	return in_sensor_frame(value(P.var), P.sensor, p);
 }
 
+mrpt::poses::CPose3D RangeBearingGraph::sensor_in_world(std::size_t k) const
+{
+	return SE3Manifold::to_pose(smoother_.problem().value(poses_[k].var)) + poses_[k].sensor;
+}
+
 Eigen::MatrixXd RangeBearingGraph::provisional_noise(std::size_t k, const Observation& first) const
 {
-	const Problem& problem = smoother_.problem();
-	const PoseRecord& C = poses_[first.pose_step];
-	const PoseRecord& P = poses_[k];
-	const mrpt::poses::CPose3D sc = SE3Manifold::to_pose(problem.value(C.var)) + C.sensor;
-	const mrpt::poses::CPose3D sn = SE3Manifold::to_pose(problem.value(P.var)) + P.sensor;
-	const Eigen::Matrix3d R = sn.getRotationMatrix().asEigen().transpose() * sc.getRotationMatrix().asEigen();
+	const Eigen::Matrix3d R = sensor_in_world(k).getRotationMatrix().asEigen().transpose() *
+							  sensor_in_world(first.pose_step).getRotationMatrix().asEigen();
 	const int dim = reading_dof();
 	return (R * reading_point_covariance(first.z, first.sigma) * R.transpose()).topLeftCorner(dim, dim);
 }
 
 Eigen::MatrixXd RangeBearingGraph::map_noise(std::size_t k, const MapLandmark& m) const
 {
-	const PoseRecord& P = poses_[k];
-	const mrpt::poses::CPose3D sn = SE3Manifold::to_pose(smoother_.problem().value(P.var)) + P.sensor;
-	const Eigen::Matrix3d R = sn.getRotationMatrix().asEigen().transpose();
+	const Eigen::Matrix3d R = sensor_in_world(k).getRotationMatrix().asEigen().transpose();
 	const int dim = reading_dof();
 	return (R * m.covariance * R.transpose()).topLeftCorner(dim, dim);
 }

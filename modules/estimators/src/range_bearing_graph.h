@@ -146,8 +146,6 @@ class RangeBearingGraph
 	 * from one covariance recovery of the current problem. Returns how many could not be kept (their
 	 * covariance not recovered or not positive definite): they are forgotten, as ConstantTime does. */
 	int keep_in_map(const std::set<VariableId>& vars);
-	/** Map policy: the landmarks that left the state, by ID. */
-	const std::map<std::int32_t, MapLandmark>& map() const { return map_; }
 	/** Drops the observations whose factors are in `removed`. */
 	void forget_observations(const std::set<FactorId>& removed);
 
@@ -279,6 +277,8 @@ class RangeBearingGraph
 	/** A map target's noise in the sensor frame of pose step k: its map covariance, rotated
 	 * (reading_dof-sized). */
 	Eigen::MatrixXd map_noise(std::size_t k, const MapLandmark& m) const;
+	/** The sensor's pose in the world at pose step k (the pose's current value). */
+	mrpt::poses::CPose3D sensor_in_world(std::size_t k) const;
 	/** Known IDs: the readings of step k that admit_reading held (its pose covariance is the odometry's
 	 * alone) are tested again against the window's joint covariance (predict_jointly); those inside the
 	 * gate enter now. After a long stretch without readings the drift is far beyond one step's

@@ -296,23 +296,20 @@ std::vector<estimators::LandmarkPolicy> parse_policy_list(const std::string& tex
 	if (t == "both") return {LandmarkPolicy::Slam, LandmarkPolicy::ConstantTime};
 	if (t == "all") return {LandmarkPolicy::Slam, LandmarkPolicy::ConstantTime, LandmarkPolicy::Map};
 	std::vector<LandmarkPolicy> out;
-	std::stringstream ss(t);
-	std::string item;
-	while (std::getline(ss, item, ','))
+	for (const auto& item : split_list(t, "policies"))
 	{
 		LandmarkPolicy p;
 		try
 		{
-			p = estimators::parse_landmark_policy(trim(item));
+			p = estimators::parse_landmark_policy(item);
 		}
 		catch (const std::exception&)
 		{
-			throw std::invalid_argument("unknown policy '" + trim(item) +
+			throw std::invalid_argument("unknown policy '" + item +
 										"' (expected slam, constant-time, map, a comma-separated list of them, both or all)");
 		}
 		if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
 	}
-	if (out.empty()) throw std::invalid_argument("no landmark policy given");
 	return out;
 }
 
