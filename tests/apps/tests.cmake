@@ -83,14 +83,15 @@ swba_run_case(ekf_failure_is_a_row 0
   ARGS ${SWBA_MRPT_DATASETS}/kf-slam_6D_demo_noncentered.rawlog --ekf-method kfEKFAlaDavison --windows 2 --no-batch
        --no-plots --max-steps 100 --out ${_out}/ekf_failure_is_a_row)
 
-# A 2D rawlog (mrpt-common's kf-slam_demo: 2D odometry, readings without pitch) with no flags: the planar
-# model and MRPT's 2D EKF, every row with figures.
+# A 2D rawlog (mrpt-common's kf-slam_demo: 2D odometry, readings without pitch) with no model flags
+# (100 of its 249 steps; golden.run_planar pins the whole run): the planar model and MRPT's 2D EKF, every
+# row with figures.
 set(_demo2d ${SWBA_MRPT_DATASETS}/kf-slam_demo.rawlog)
 swba_run_case(planar_no_flags 0
   REGEX "\nekf kfEKFAlaDavison +- +online +0\\.00[0-9]+ .*\nwindow W=5 +5 +online +0\\.00[0-9]+ .*\nwindow W=30 lagged +30 +lagged +0\\.00[0-9]+ .*\nbatch +- +smoothed +0\\.00[0-9]+ .*planar rawlog[^\n]*2D model.*note: ekf kfEKFAlaDavison: MRPT's 2D filter CRangeBearingKFSLAM2D"
   NOT_REGEX "FAILED"
-  JSON 249 11
-  ARGS ${_demo2d} --no-plots --out ${_out}/planar_no_flags)
+  JSON 100 11
+  ARGS ${_demo2d} --max-steps 100 --no-plots --out ${_out}/planar_no_flags)
 # Every estimator failed (the 6D model on 2D data: no pitch noise): each row reported with the real
 # failing step (the batch's too), then exit 1.
 swba_run_case(every_estimator_failed 1
@@ -228,8 +229,8 @@ add_test(NAME apps.sweep.nees_parallel_equals_sequential
 set_tests_properties(apps.sweep.nees_parallel_equals_sequential PROPERTIES PASS_REGULAR_EXPRESSION "OK: " TIMEOUT 300)
 # The same output whatever the thread count (with and without landmark IDs).
 add_test(NAME apps.cli.threads_give_identical_output
-  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/threads_identical.sh $<TARGET_FILE:swba> ${_out}/threads ${_demo}
-          ${SWBA_MRPT_DATASETS}/kf-slam_6D_demo_DA.rawlog)
+  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/threads_identical.sh $<TARGET_FILE:swba> ${_out}/threads ${_demo} 250
+          ${SWBA_MRPT_DATASETS}/kf-slam_6D_demo_DA.rawlog all)
 set_tests_properties(apps.cli.threads_give_identical_output PROPERTIES PASS_REGULAR_EXPRESSION "OK: " TIMEOUT 300)
 # Command-line conventions of the new commands.
 swba_cli_case(jobs_help 0 REGEX "--simulate.*--seeds.*--windows.*--config.*--out.*--swba" ARGS jobs --help)

@@ -2,20 +2,24 @@
 # swba run gives the same output whatever the solver's thread count: every TUM and covariance file and
 # ape.txt byte for byte with --threads 1 and --threads 2, on a rawlog with landmark IDs and on one
 # without (data association). The solver evaluates factors and builds the Schur complement in parallel
-# above 2000 factors (kParallelMin): the batch of the whole kf-slam_6D_demo (about 6400) does, a
-# window does not.
-#   threads_identical.sh SWBA OUT_DIR RAWLOG_WITH_IDS RAWLOG_WITHOUT_IDS
+# above 2000 factors (kParallelMin): the batch of the first 250 steps of kf-slam_6D_demo (about 2300)
+# and of the whole kf-slam_6D_demo_DA (about 2100) do, a window does not.
+#   threads_identical.sh SWBA OUT_DIR RAWLOG STEPS [RAWLOG STEPS]...   (STEPS: --max-steps, or all)
 set -euo pipefail
 swba=$1 out=$2
 shift 2
 fail() { echo "FAIL: $*" >&2; exit 1; }
 rm -rf "$out" && mkdir -p "$out"
 n=0
-for rawlog in "$@"; do
+while [ $# -ge 2 ]; do
+	rawlog=$1 steps=$2
+	shift 2
 	name=$(basename "$rawlog" .rawlog)
 	mkdir -p "$out/$name"
+	limit=()
+	[ "$steps" = all ] || limit=(--max-steps "$steps")
 	for t in 1 2; do
-		"$swba" run "$rawlog" --windows 5 --no-ekf --no-plots --no-progress --threads "$t" \
+		"$swba" run "$rawlog" "${limit[@]}" --windows 5 --no-ekf --no-plots --no-progress --threads "$t" \
 			--out "$out/$name/t$t" >"$out/$name/t$t.txt" 2>&1 || fail "$name --threads $t: $(tail -3 "$out/$name/t$t.txt")"
 	done
 	for f in "$out/$name/t1"/*.tum "$out/$name/t1"/*.cov "$out/$name/t1/ape.txt"; do
@@ -24,4 +28,5 @@ for rawlog in "$@"; do
 		n=$((n + 1))
 	done
 done
+[ $# -eq 0 ] || fail "arguments: RAWLOG STEPS pairs expected"
 echo "OK: $n files identical with --threads 1 and 2"

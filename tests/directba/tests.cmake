@@ -1,15 +1,6 @@
-# End-to-end: `swba directba` on the course's 7-image set with the default options (≈ 10 s on a loaded
-# 2-core machine): the initial figures, and the final cost below 5.3e5 with a per-pixel residual RMS
-# below 24 gray levels (the figures of doc/directba.md; golden.directba_dataset pins them at the
-# printed precision); and the synthetic check, which exits 1 unless the ground truth is recovered
-# (poses ≤ 1 mm / 0.05°, points ≤ 1 cm).
-set(directba_e2e_dir ${CMAKE_CURRENT_BINARY_DIR}/directba_e2e)
-file(MAKE_DIRECTORY ${directba_e2e_dir})
-add_test(NAME directba.e2e_course_data
-  COMMAND $<TARGET_FILE:swba> directba ${SWBA_DATA_DIR}/directba --quiet
-    --out ${directba_e2e_dir} --ply-final ${directba_e2e_dir}/final.ply)
-set_tests_properties(directba.e2e_course_data PROPERTIES
-  PASS_REGULAR_EXPRESSION "Initial cost: +7\\.2065[0-9]*e\\+05.*Final cost: +5\\.[0-2][0-9]*e\\+05.*Before: cost 7\\.20650[0-9]e\\+05, evaluated 24501, dropped 4325.*After: +cost 5\\.[0-2][0-9]*e\\+05, evaluated [0-9]+, dropped [0-9]+, per-pixel residual RMS 2[0-3]\\.[0-9]+ .*Wrote ${directba_e2e_dir}/poses_initial.tum")
+# End-to-end: `swba directba` on the course's 7-image set with the default options is
+# golden.directba_dataset (tests/golden/tests.cmake: every printed figure, and the files it writes);
+# the synthetic check exits 1 unless the ground truth is recovered (poses ≤ 1 mm / 0.05°, points ≤ 1 cm).
 add_test(NAME directba.e2e_synthetic_check COMMAND $<TARGET_FILE:swba> directba --synthetic --quiet)
 set_tests_properties(directba.e2e_synthetic_check PROPERTIES PASS_REGULAR_EXPRESSION "Synthetic check: PASS")
 # Bad input: clear one-line errors, exit != 0.

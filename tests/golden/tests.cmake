@@ -16,9 +16,10 @@ function(swba_golden name)
   set_tests_properties(golden.${name} PROPERTIES LABELS golden)
 endfunction()
 
-# swba run: the default rawlog with every default, and both policies x FEJ on/off.
+# swba run: the default rawlog with every default, and both policies x FEJ on/off (at two of the
+# default window sizes: run_default has the others).
 swba_golden(run_default run --out <work>/out)
-swba_golden(run_policy_fej run --policy both --fej both --max-steps 150 --out <work>/out)
+swba_golden(run_policy_fej run --policy both --fej both --windows 10,30 --max-steps 150 --out <work>/out)
 # swba run with the map policy on the default rawlog (6D), on the 2D one and without landmark IDs.
 swba_golden(run_map run --policy map --windows 10 --no-ekf --no-batch --no-plots --out <work>/out)
 swba_golden(run_map_planar run ${SWBA_MRPT_DATASETS}/kf-slam_demo.rawlog --policy map --windows 10 --no-ekf --no-batch --no-plots --out <work>/out)
@@ -41,7 +42,7 @@ swba_golden(monoba monoba)
 swba_golden(monoba_sweep monoba --sweep-prior-weights --seeds 3)
 # swba directba: the synthetic room and the shipped image set.
 swba_golden(directba_synthetic directba --synthetic)
-swba_golden(directba_dataset directba ${_data}/directba -q)
+swba_golden(directba_dataset directba ${_data}/directba -q --out <work>/out --ply-final <work>/final.ply)
 # swba ape / rpe: evo's reference trajectories.
 set(_evo ${_data}/evo_reference)
 swba_golden(ape ape ${_evo}/gt_kf-slam_6D_demo.tum ${_evo}/ekf_kf-slam_6D_demo.tum)

@@ -42,15 +42,15 @@ GaugeRun run(GaugeMode gauge, int W)
 
 TEST(SlidingWindowGauge, FreeGaugeIsAsAccurateAsTheFixedGauge)
 {
-	for (const int W : {10, 30})
-	{
-		const GaugeRun fixed = run(GaugeMode::Fixed, W), free = run(GaugeMode::Free, W);
-		std::printf("[gauge] W = %d, SE(3)-aligned APE online / lagged: fixed %.6f / %.6f, free %.6f / %.6f; "
-					"online in the initial pose's frame: fixed %.6f, free %.6f\n",
-					W, fixed.aligned_online, fixed.aligned_lagged, free.aligned_online, free.aligned_lagged,
-					fixed.initial_frame_online, free.initial_frame_online);
-		EXPECT_LT(free.aligned_online, 1.1 * fixed.aligned_online) << "W = " << W;
-		EXPECT_LT(free.aligned_lagged, 1.1 * fixed.aligned_lagged) << "W = " << W;
-		EXPECT_LT(free.initial_frame_online, 1.1 * fixed.initial_frame_online) << "W = " << W;
-	}
+	// One window size: the hold acts per solve whatever W is (W = 30 measured the same ratios, within
+	// 3 %: aligned online 0.011117 / 0.011160, lagged 0.009694 / 0.009860).
+	const int W = 10;
+	const GaugeRun fixed = run(GaugeMode::Fixed, W), free = run(GaugeMode::Free, W);
+	std::printf("[gauge] W = %d, SE(3)-aligned APE online / lagged: fixed %.6f / %.6f, free %.6f / %.6f; "
+				"online in the initial pose's frame: fixed %.6f, free %.6f\n",
+				W, fixed.aligned_online, fixed.aligned_lagged, free.aligned_online, free.aligned_lagged,
+				fixed.initial_frame_online, free.initial_frame_online);
+	EXPECT_LT(free.aligned_online, 1.1 * fixed.aligned_online);
+	EXPECT_LT(free.aligned_lagged, 1.1 * fixed.aligned_lagged);
+	EXPECT_LT(free.initial_frame_online, 1.1 * fixed.initial_frame_online);
 }
