@@ -36,6 +36,7 @@ void RangeBearingGraph::convert_to_world_xyz(Landmark& lm)
 	const Eigen::Vector3d p = inverse_depth_to_world(problem.value(va), poses_[a].sensor, lam);
 	const VariableId vp = problem.add_variable(p, euclidean_manifold(3), Group::Eliminable);
 
+	smoother_.activate(vl);  // a stored prior-only landmark changes variables among the active ones
 	const int ia = smoother_.include_in_prior(va);
 	const auto& x_lin = smoother_.prior().linearization_points();
 	const Eigen::Vector3d lam_lin = Eigen::Map<const Eigen::Vector3d>(x_lin[smoother_.prior().index_of(vl)].data());
@@ -78,8 +79,9 @@ void RangeBearingGraph::reanchor(Landmark& lm, std::size_t b)
 	}
 	const VariableId vl2 = problem.add_variable(lam_new, euclidean_manifold(3), Group::Eliminable);
 
-	if (smoother_.prior().installed() && smoother_.prior().index_of(vl) >= 0)
+	if (smoother_.in_prior(vl))
 	{
+		smoother_.activate(vl);
 		// λ = g(λ', T_b, T_a): λ is the new landmark seen from the old anchor's sensor, in inverse depth.
 		const int ia = smoother_.include_in_prior(va), ib = smoother_.include_in_prior(vb);
 		const auto& x_lin = smoother_.prior().linearization_points();

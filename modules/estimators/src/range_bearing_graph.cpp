@@ -202,7 +202,14 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 	smoother_.add_state(step.time(), vnew);
 	const Eigen::MatrixXd odo_info = add_odometry_factor(step, vprev, vnew);
 	if (step.readings.empty()) return;
-	if (association_ == DataAssociation::Auto) association_ = resolve_association(opt_.association, step);
+	if (association_ == DataAssociation::Auto)
+	{
+		association_ = resolve_association(opt_.association, step);
+		// The SLAM policy's prior-only landmarks are kept as their conditional (exact, cost per step
+		// not cubic in the map); data association asks for their covariances at every step, which
+		// the per-solve elimination keeps available (doc/window.md, "Cost per step").
+		smoother_.set_store_prior_only(opt_.policy == LandmarkPolicy::Slam && association_ == DataAssociation::Ids);
+	}
 	const bool associating = association_ != DataAssociation::Ids;
 	if (gate_on_entry_ || associating) newest_pose_cov_ = odo_info.inverse();
 	Eigen::Vector3d sigma;

@@ -53,7 +53,6 @@ std::vector<RangeBearingGraph::ReadingMove> RangeBearingGraph::misfit_moves(
 std::vector<RangeBearingGraph::ReadingMove> RangeBearingGraph::duplicate_merges(
 	const std::map<std::int32_t, std::set<std::size_t>>& seen_at, const std::vector<ReadingMove>& moved) const
 {
-	const auto& prior = smoother_.prior();
 	std::set<std::int32_t> busy;  // landmarks a move of this step already changes
 	for (const ReadingMove& m : moved) busy.insert({m.from, m.to});
 	std::map<std::int32_t, Eigen::Vector3d> at;
@@ -67,7 +66,7 @@ std::vector<RangeBearingGraph::ReadingMove> RangeBearingGraph::duplicate_merges(
 	for (const auto& [id, lm] : landmarks_)
 	{
 		if (lm.obs.empty() || !lm.held.empty() || busy.count(id)) continue;
-		if (prior.installed() && prior.index_of(lm.var) >= 0) continue;  // its information is in the prior
+		if (smoother_.in_prior(lm.var)) continue;  // its information is in the prior
 		// A reading within the gate of both landmarks puts them at most 2·√(2·gate) Cartesian σ apart.
 		const Observation& last = lm.obs.back();
 		double s = std::max(last.sigma[0], last.z.range * last.sigma[1]);
@@ -127,12 +126,11 @@ void RangeBearingGraph::reassociate(StepSummary& sum)
 	}
 	// A landmark left with no reading is determined by nothing but the marginal prior, if it is in it;
 	// otherwise it is no longer a landmark of the estimate.
-	const auto& prior = smoother_.prior();
 	for (const ReadingMove& m : moves)
 	{
 		const auto it = landmarks_.find(m.from);
 		if (it == landmarks_.end() || !it->second.obs.empty()) continue;
-		if (prior.installed() && prior.index_of(it->second.var) >= 0) continue;
+		if (smoother_.in_prior(it->second.var)) continue;
 		const VariableId v = it->second.var;
 		forget_landmark(v);
 		smoother_.remove_variable(v);

@@ -43,7 +43,11 @@ struct SlidingWindowEstimator::Impl
 		const auto is_landmark = [&](VariableId v) { return graph.is_landmark(v); };
 		const CovarianceRequest request = opt().gauge == GaugeMode::Free ? CovarianceRequest{} : covariance_request();
 		const smoother::UpdateSummary u = smoother().update(is_landmark, request);
-		if (opt().gauge == GaugeMode::Free) graph.hold_gauge(before);
+		if (opt().gauge == GaugeMode::Free)
+		{
+			graph.hold_gauge(before);
+			smoother().update_prior_only_values();
+		}
 		sum.prior_only_landmarks = u.prior_only_eliminated;
 		sum.solve_seconds = seconds_since(ts) - u.covariance.seconds;
 		sum.iterations = u.solver.iterations;
@@ -96,8 +100,7 @@ struct SlidingWindowEstimator::Impl
 			}
 			if (opt().landmarks == LandmarkParameterization::InverseDepth && !lm.world_xyz && lm.anchor_step == o)
 			{
-				const auto& prior = smoother().prior();
-				if (prior.installed() && prior.index_of(lm.var) >= 0)
+				if (smoother().in_prior(lm.var))
 				{
 					graph.convert_to_world_xyz(lm);
 					sum.landmarks_to_world++;

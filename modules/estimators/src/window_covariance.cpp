@@ -117,6 +117,7 @@ Eigen::MatrixXd RangeBearingGraph::world_position_jacobian(const Landmark& lm) c
 std::map<std::int32_t, LandmarkEstimate> RangeBearingGraph::estimates_of(const std::vector<const Landmark*>& lms,
 																		 double* seconds)
 {
+	smoother_.release_prior_only();  // stored prior-only landmarks are constant in the problem
 	CovarianceRequest request;
 	const std::vector<const Landmark*>& order = lms;
 	for (const Landmark* l : lms)

@@ -2,12 +2,55 @@
 
 #include "dense_normal_system.h"
 #include "prior_only_elimination.h"
+#include "prior_only_store.h"
 
 #include <swba/linear/marginal.h>
 
 namespace swba::smoother
 {
-FixedLagSmoother::FixedLagSmoother(const FixedLagSmootherOptions& options) : opt_(options) {}
+FixedLagSmoother::FixedLagSmoother(const FixedLagSmootherOptions& options)
+	: opt_(options), store_(std::make_unique<detail::PriorOnlyStore>())
+{
+}
+FixedLagSmoother::~FixedLagSmoother() = default;
+FixedLagSmoother::FixedLagSmoother(FixedLagSmoother&&) noexcept = default;
+FixedLagSmoother& FixedLagSmoother::operator=(FixedLagSmoother&&) noexcept = default;
+
+bool FixedLagSmoother::in_prior(VariableId v) const { return prior_.index_of(v) >= 0 || store_->contains(v); }
+
+bool FixedLagSmoother::is_stored_prior_only(VariableId v) const { return store_->contains(v); }
+
+void FixedLagSmoother::set_store_prior_only(bool on)
+{
+	if (!on) release_prior_only();
+	opt_.store_prior_only = on;
+}
+
+void FixedLagSmoother::activate(VariableId v)
+{
+	if (store_->contains(v)) store_->release(problem_, prior_, {v});
+}
+
+void FixedLagSmoother::release_prior_only() { store_->release(problem_, prior_, store_->variables()); }
+
+void FixedLagSmoother::update_prior_only_values() { store_->set_values(problem_, prior_); }
+
+int FixedLagSmoother::sync_store(const std::function<bool(VariableId)>& eliminable)
+{
+	std::vector<VariableId> back, leaving;
+	for (VariableId v : store_->variables())
+		if (!problem_.variable(v).factors.empty()) back.push_back(v);
+	store_->release(problem_, prior_, back);
+	if (prior_.installed())
+		for (VariableId v : prior_.variables())
+		{
+			const auto& var = problem_.variable(v);
+			if (!var.constant && var.factors.size() == 1 && *var.factors.begin() == prior_.factor() && eliminable(v))
+				leaving.push_back(v);
+		}
+	store_->absorb(problem_, prior_, leaving, opt_.marginalization_threshold);
+	return static_cast<int>(store_->variables().size());
+}
 
 FactorId FixedLagSmoother::add_factor(std::shared_ptr<const Factor> factor, std::vector<VariableId> variables,
 									  std::shared_ptr<const LossFunction> loss)
@@ -48,7 +91,9 @@ int FixedLagSmoother::include_in_prior(VariableId v)
 
 void FixedLagSmoother::change_prior_variable(const VariableChange& change)
 {
+	activate(change.old_var);
 	prior_.change_variable(problem_, change);
+	store_->change_active(change);
 	if (opt_.first_estimate_jacobians) (*first_estimates_)[change.new_var] = change.first_estimate;
 	prior_.install(problem_);
 }
@@ -57,6 +102,13 @@ UpdateSummary FixedLagSmoother::update(const std::function<bool(VariableId)>& el
 										const CovarianceRequest& covariance)
 {
 	UpdateSummary out;
+	if (opt_.eliminate_prior_only && opt_.store_prior_only)
+	{
+		out.prior_only_eliminated = sync_store(eliminable);
+		out.solver = swba::solve(problem_, opt_.solver, covariance, &out.covariance);
+		store_->set_values(problem_, prior_);
+		return out;
+	}
 	detail::PriorOnlyElimination elimination;
 	const bool reduced = opt_.eliminate_prior_only && prior_.installed() &&
 						 elimination.begin(problem_, prior_, opt_.marginalization_threshold, eliminable);
@@ -95,6 +147,13 @@ MarginalizationSummary FixedLagSmoother::marginalize_oldest(const std::set<Varia
 	const detail::DenseNormalSystem sys =
 		detail::dense_normal_system(problem_, order, std::vector<FactorId>(factors.begin(), factors.end()), known);
 	const int num_keep = sys.offsets[keep.size()];
+	std::vector<std::vector<double>> x_lin;
+	for (VariableId v : keep)
+	{
+		const double* x = linearization_point(v);
+		x_lin.emplace_back(x, x + problem_.variable(v).manifold->ambient_size());
+	}
+	if (!store_->empty()) eliminate_from_store(keep, margv, sys.H, sys.b, num_keep, x_lin);
 	MarginalizationResult m = marginalize_leading(sys.H, sys.b, num_keep, opt_.marginalization_threshold);
 	// Those factors and variables are replaced by the new prior.
 	if (prior_.installed() && factors.count(prior_.factor())) prior_.forget_factor();  // removed below
@@ -102,13 +161,58 @@ MarginalizationSummary FixedLagSmoother::marginalize_oldest(const std::set<Varia
 	for (VariableId v : marg) remove_variable(v);
 	states_.pop_front();
 	// The new prior is stored around the first estimates of its variables (their current values without FEJ).
-	std::vector<std::vector<double>> x_lin;
-	for (VariableId v : keep)
-	{
-		const double* x = linearization_point(v);
-		x_lin.emplace_back(x, x + problem_.variable(v).manifold->ambient_size());
-	}
 	prior_.reset(problem_, std::move(keep), std::move(m), std::move(x_lin));
 	return {std::move(factors), sys.unevaluable};
+}
+
+void FixedLagSmoother::eliminate_from_store(const std::vector<VariableId>& keep, const std::vector<VariableId>& margv,
+											const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,
+											const std::vector<std::vector<double>>& keep_lin)
+{
+	// (H, b) is in δ = x ⊟ x_current; the store in d = x ⊟ x_lin. The marginalised variables' conditional
+	// δ_m = H_mm⁻¹ (b_m − H_mk δ_k) becomes d_m = s_m + H_mm⁻¹ (b_m + H_mk s_k) − H_mm⁻¹ H_mk d_k with
+	// s = x_current ⊟ x_lin (the new prior's x_lin for the kept variables, the old prior's for the others).
+	const int nm = static_cast<int>(H.rows()) - num_keep;
+	const Eigen::MatrixXd Hmm_inv =
+		truncated_pseudo_inverse(H.bottomRightCorner(nm, nm), opt_.marginalization_threshold);
+	const auto shift = [&](VariableId v, const double* x_lin) {
+		const auto& var = problem_.variable(v);
+		Eigen::VectorXd s(var.manifold->tangent_size());
+		var.manifold->minus(var.value.data(), x_lin, s.data());
+		return s;
+	};
+	Eigen::VectorXd s_k(num_keep), s_m(nm);
+	std::vector<int> keep_dims, marg_dims;
+	for (std::size_t i = 0, off = 0; i < keep.size(); i++)
+	{
+		const Eigen::VectorXd s = shift(keep[i], keep_lin[i].data());
+		s_k.segment(static_cast<Eigen::Index>(off), s.size()) = s;
+		keep_dims.push_back(static_cast<int>(s.size()));
+		off += static_cast<std::size_t>(s.size());
+		// A kept variable whose linearisation point moves (no FEJ) shifts the store's coordinates.
+		const int idx = prior_.index_of(keep[i]);
+		if (idx >= 0)
+		{
+			const auto& var = problem_.variable(keep[i]);
+			Eigen::VectorXd t(var.manifold->tangent_size());
+			var.manifold->minus(keep_lin[i].data(), prior_.linearization_points()[static_cast<std::size_t>(idx)].data(),
+								t.data());
+			store_->shift_active(keep[i], t);
+		}
+	}
+	for (std::size_t i = 0, off = 0; i < margv.size(); i++)
+	{
+		const int idx = prior_.index_of(margv[i]);
+		const double* lin = idx >= 0 ? prior_.linearization_points()[static_cast<std::size_t>(idx)].data()
+									 : linearization_point(margv[i]);
+		const Eigen::VectorXd s = shift(margv[i], lin);
+		s_m.segment(static_cast<Eigen::Index>(off), s.size()) = s;
+		marg_dims.push_back(static_cast<int>(s.size()));
+		off += static_cast<std::size_t>(s.size());
+	}
+	const Eigen::MatrixXd H_mk = H.bottomLeftCorner(nm, num_keep);
+	const Eigen::MatrixXd K_m = Hmm_inv * H_mk;
+	const Eigen::VectorXd k_m = s_m + Hmm_inv * (b.tail(nm) + H_mk * s_k);
+	store_->eliminate(margv, marg_dims, keep, keep_dims, k_m, K_m, Hmm_inv);
 }
 }  // namespace swba::smoother

@@ -43,14 +43,71 @@ void MarginalPrior::reset(Problem& problem, std::vector<VariableId> vars, Margin
 		off += var.manifold->tangent_size();
 	}
 	if (off != m.J.cols()) throw std::invalid_argument("MarginalPrior::reset: J and the variables' sizes disagree");
+	m.e -= m.J * shift;
+	m.b += m.H * shift;
+	assign(problem, std::move(vars), std::move(m), std::move(x_lin));
+}
+
+void MarginalPrior::assign(Problem& problem, std::vector<VariableId> vars, MarginalizationResult m,
+						   std::vector<std::vector<double>> x_lin)
+{
+	if (m.rank == 0 || vars.empty())
+	{
+		uninstall(problem);
+		clear();
+		return;
+	}
+	if (x_lin.size() != vars.size()) throw std::invalid_argument("MarginalPrior::assign: one x_lin per variable");
 	if (installed()) problem.remove_factor(factor_);
 	factor_ = -1;
 	vars_ = std::move(vars);
-	e_ = m.e - m.J * shift;
+	e_ = std::move(m.e);
 	J_ = std::move(m.J);
 	x_lin_ = std::move(x_lin);
-	b_ = m.b + m.H * shift;
+	b_ = std::move(m.b);
 	H_ = std::move(m.H);
+	has_information_ = true;
+	install(problem);
+}
+
+void MarginalPrior::append_rows(Problem& problem, const std::vector<VariableId>& new_vars,
+								const std::vector<std::vector<double>>& new_x_lin, const Eigen::MatrixXd& J_rows,
+								const Eigen::VectorXd& e_rows)
+{
+	if (new_vars.size() != new_x_lin.size() || J_rows.rows() != e_rows.size())
+		throw std::invalid_argument("MarginalPrior::append_rows: sizes disagree");
+	if (!has_information_ && J_.rows() > 0)
+	{
+		H_ = J_.transpose() * J_;
+		b_ = -(J_.transpose() * e_);
+	}
+	const Eigen::Index n0 = J_.cols();
+	for (std::size_t i = 0; i < new_vars.size(); i++)
+	{
+		if (index_of(new_vars[i]) >= 0) throw std::invalid_argument("MarginalPrior::append_rows: variable already in");
+		vars_.push_back(new_vars[i]);
+		x_lin_.push_back(new_x_lin[i]);
+	}
+	const Eigen::Index n = J_rows.cols();
+	if (n < n0) throw std::invalid_argument("MarginalPrior::append_rows: fewer columns than the prior");
+	Eigen::MatrixXd J = Eigen::MatrixXd::Zero(J_.rows() + J_rows.rows(), n);
+	J.topLeftCorner(J_.rows(), n0) = J_;
+	J.bottomRows(J_rows.rows()) = J_rows;
+	Eigen::VectorXd e(e_.size() + e_rows.size());
+	e << e_, e_rows;
+	Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, n);
+	Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
+	if (n0 > 0)
+	{
+		H.topLeftCorner(n0, n0) = H_;
+		b.head(n0) = b_;
+	}
+	H.noalias() += J_rows.transpose() * J_rows;
+	b.noalias() -= J_rows.transpose() * e_rows;
+	J_ = std::move(J);
+	e_ = std::move(e);
+	H_ = std::move(H);
+	b_ = std::move(b);
 	has_information_ = true;
 	install(problem);
 }

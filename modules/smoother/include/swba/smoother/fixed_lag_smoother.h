@@ -36,6 +36,11 @@
 
 namespace swba::smoother
 {
+namespace detail
+{
+class PriorOnlyStore;
+}
+
 struct FixedLagSmootherOptions
 {
 	/** States kept in the window (≥ 2); 0 = unbounded (nothing is marginalised). Default 0. */
@@ -48,6 +53,13 @@ struct FixedLagSmootherOptions
 	/** In update(), hold the variables only the prior touches out of the LM solve and set them to their
 	 * conditional optimum afterwards (same optimum, a smaller dense system). Default true. */
 	bool eliminate_prior_only = true;
+	/** With eliminate_prior_only: keep the prior-only variables out of the prior between solves, as
+	 * their conditional given the prior's other variables, updated at each marginalisation, instead of
+	 * eliminating them from the whole prior at every update() (the same Gaussian; a step costs
+	 * O(prior-only dimension²) instead of its cube, see prior_only_store.h). While stored they are
+	 * constant variables of the problem with no factor, at their conditional mean after each update():
+	 * a covariance of them needs release_prior_only() first. Default false. */
+	bool store_prior_only = false;
 	/** LM options of update(). */
 	SolverOptions solver;
 };
@@ -82,6 +94,9 @@ class FixedLagSmoother
    public:
 	/** Does not validate `options` (the caller's options do). */
 	explicit FixedLagSmoother(const FixedLagSmootherOptions& options);
+	~FixedLagSmoother();
+	FixedLagSmoother(FixedLagSmoother&&) noexcept;
+	FixedLagSmoother& operator=(FixedLagSmoother&&) noexcept;
 
 	const FixedLagSmootherOptions& options() const { return opt_; }
 	/** The factors and values. Add variables directly; add factors through add_factor(). */
@@ -107,7 +122,23 @@ class FixedLagSmoother
 	/** Removes variable v (and its factors) from the problem, and its first estimate. */
 	void remove_variable(VariableId v);
 
+	/** The marginal prior over its active variables (with store_prior_only, the prior-only variables
+	 * are not among them: see in_prior()). */
 	const MarginalPrior& prior() const { return prior_; }
+	/** v is a variable of the prior: active, or stored prior-only. */
+	bool in_prior(VariableId v) const;
+	/** v is a stored prior-only variable (constant in the problem, at its conditional mean). */
+	bool is_stored_prior_only(VariableId v) const;
+	/** Turns store_prior_only on or off (off: the stored variables are released first). */
+	void set_store_prior_only(bool on);
+	/** Brings the stored prior-only variable v back among the prior's active variables (no-op if it is
+	 * not stored), e.g. before a change of variables of it. */
+	void activate(VariableId v);
+	/** Brings every stored prior-only variable back (before a covariance of them is asked for). */
+	void release_prior_only();
+	/** Sets the stored prior-only variables to their conditional mean at the current values (after
+	 * the caller moved the active variables, e.g. a gauge hold). update() does it after its solve. */
+	void update_prior_only_values();
 	/** Freezes `v` and brings it into the prior (zero columns) if absent: a change of variables is
 	 * about to make the prior depend on it. Returns its index in prior().variables(). */
 	int include_in_prior(VariableId v);
@@ -136,5 +167,14 @@ class FixedLagSmoother
 	std::shared_ptr<FirstEstimateRegistry> first_estimates_ = std::make_shared<FirstEstimateRegistry>();
 	std::deque<TimedState> states_;
 	MarginalPrior prior_;
+	std::unique_ptr<detail::PriorOnlyStore> store_;
+
+	/** store_prior_only: releases the stored variables that gained a factor and stores the active ones
+	 * the prior alone touches. */
+	int sync_store(const std::function<bool(VariableId)>& eliminable);
+	/** store_prior_only: the store follows the elimination of `margv` in marginalize_oldest(). */
+	void eliminate_from_store(const std::vector<VariableId>& keep, const std::vector<VariableId>& margv,
+							  const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,
+							  const std::vector<std::vector<double>>& keep_lin);
 };
 }  // namespace swba::smoother

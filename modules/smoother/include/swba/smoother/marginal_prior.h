@@ -68,6 +68,17 @@ class MarginalPrior
 	 * prior empty. Throws std::invalid_argument when the sizes disagree. */
 	void reset(Problem& problem, std::vector<VariableId> vars, MarginalizationResult m,
 			   std::vector<std::vector<double>> x_lin = {});
+	/** reset() for an `m` that is already a quadratic in d = x ⊟ x_lin (no shift; one x_lin per
+	 * variable). */
+	void assign(Problem& problem, std::vector<VariableId> vars, MarginalizationResult m,
+				std::vector<std::vector<double>> x_lin);
+	/** Multiplies the prior by the linear factor ½‖e_rows + J_rows d‖² whose columns are the prior's
+	 * variables followed by `new_vars` (appended with linearisation points `new_x_lin`): J and e gain
+	 * rows, H and b (known) the factor's information. Re-installs the factor. Throws
+	 * std::invalid_argument when the sizes disagree. */
+	void append_rows(Problem& problem, const std::vector<VariableId>& new_vars,
+					 const std::vector<std::vector<double>>& new_x_lin, const Eigen::MatrixXd& J_rows,
+					 const Eigen::VectorXd& e_rows);
 	/** Empties the prior; its factor, if any, must already be gone from the problem. */
 	void clear();
 	/** Removes the prior's factor from the problem (the prior itself is kept). */

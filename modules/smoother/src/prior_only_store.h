@@ -1,0 +1,96 @@
+/** \file prior_only_store.h
+ * (private to the smoother module) The variables only the marginal prior touches, kept out of it as
+ * their Gaussian conditional given the prior's other variables, updated step by step instead of
+ * re-eliminated at every solve.
+ *
+ * With the SLAM policy every landmark ever seen stays in the prior, but a landmark no window pose
+ * observes is connected to nothing else. Split the prior's variables into those (p, "prior-only") and
+ * the others (a, "active"); in the prior's coordinates d = x ⊟ x_lin the prior is exactly
+ *     p(d_a, d_p) = N(d_a; prior over a) · N(d_p; k − K d_a, C),
+ * the marginal over a (what the window's solve needs, in the MarginalPrior) times the conditional of p
+ * (kept here). No factor other than the prior touches p, so nothing the window does changes that
+ * conditional except through a:
+ *   - eliminate(): marginalising active variables M (the oldest pose) with d_M = k_M − K_M d_rest + η,
+ *     η ~ N(0, C_M), gives k ← k − K_pM k_M, K ← K − K_pM K_M, C ← C + K_pM C_M K_pMᵀ (rank dim M);
+ *   - absorb(): an active variable that lost its last factor but the prior leaves a, conditioned on the
+ *     rest from the prior's information (H_ll⁻¹ b_l, H_ll⁻¹ H_la, H_ll⁻¹), and the prior keeps its
+ *     marginal;
+ *   - release(): a variable that gained a factor (a returning landmark) goes back: the prior is
+ *     multiplied by its conditional N(d_l; k_l − K_l d_a, C_ll), and the other prior-only variables are
+ *     conditioned on it (C ← C − C_pl C_ll⁻¹ C_lp);
+ *   - change_active(): a change of variables in the prior rewrites K's columns as it rewrites J's.
+ * Each costs O(|p|² · its rank) at most, where re-eliminating p from the whole prior at every step cost
+ * O(|p|³): the window's cost per step no longer grows with the map's cube. The split is exact (same
+ * Gaussian, rounding aside), so the estimates are those of keeping every landmark in the prior.
+ * K is kept by active variable (a block of columns each), so the prior may reorder its variables. */
+#pragma once
+
+#include <swba/core/manifold.h>
+#include <swba/nonlinear/problem.h>
+#include <swba/smoother/marginal_prior.h>
+
+#include <Eigen/Core>
+#include <map>
+#include <memory>
+#include <vector>
+
+namespace swba::smoother::detail
+{
+class PriorOnlyStore
+{
+   public:
+	bool empty() const { return members_.empty(); }
+	bool contains(VariableId v) const;
+	/** The stored variables, in storage order. */
+	std::vector<VariableId> variables() const;
+	/** Scalar dimension of the store (rows of k, K and C). */
+	int dim() const { return static_cast<int>(k_.size()); }
+	/** x_lin of a stored variable (throws std::out_of_range if absent). */
+	const std::vector<double>& linearization_point(VariableId v) const;
+
+	/** Moves `vars` (variables of the installed `prior` that no other factor touches) out of the prior:
+	 * their conditional given the prior's other variables joins the store, the prior keeps the
+	 * marginal of the others, and they become constant in `problem`. */
+	void absorb(Problem& problem, MarginalPrior& prior, const std::vector<VariableId>& vars, double threshold);
+	/** Moves `vars` (stored) back into the prior: it is multiplied by their conditional given its
+	 * variables, they become variables of `problem` again at their conditional mean. */
+	void release(Problem& problem, MarginalPrior& prior, const std::vector<VariableId>& vars);
+
+	/** The elimination of active variables `marg` (tangent sizes `marg_dims`) with the conditional
+	 * d_marg = k_m − K_m d_keep + η, η ~ N(0, C_m), where d_keep stacks the variables `keep` (tangent
+	 * sizes `keep_dims`). */
+	void eliminate(const std::vector<VariableId>& marg, const std::vector<int>& marg_dims,
+				   const std::vector<VariableId>& keep, const std::vector<int>& keep_dims, const Eigen::VectorXd& k_m,
+				   const Eigen::MatrixXd& K_m, const Eigen::MatrixXd& C_m);
+	/** The active variable `v`'s linearisation point moves by t = x_lin_new ⊟ x_lin_old: d_v shifts. */
+	void shift_active(VariableId v, const Eigen::VectorXd& t);
+	/** The prior's change of variables `change` (an active variable): K's columns follow J's. */
+	void change_active(const VariableChange& change);
+
+	/** Sets every stored variable to its conditional mean x_lin ⊞ (k − K d_a) at the prior's variables'
+	 * current values in `problem`. */
+	void set_values(Problem& problem, const MarginalPrior& prior) const;
+
+	/** Empties the store (its variables are left as they are in the problem). */
+	void clear() { *this = PriorOnlyStore(); }
+
+   private:
+	struct Member
+	{
+		VariableId var;
+		int offset;  ///< first row in k, K, C
+		int dim;
+		std::vector<double> x_lin;
+		std::shared_ptr<const Manifold> manifold;
+	};
+	/** Rows of the members `vars`, in their order. */
+	std::vector<int> rows_of(const std::vector<VariableId>& vars) const;
+	/** Keeps only the rows (and columns of C) not in `drop`. */
+	void remove_rows(const std::vector<int>& drop);
+
+	std::vector<Member> members_;
+	Eigen::VectorXd k_;
+	std::map<VariableId, Eigen::MatrixXd> K_;  ///< by active variable: rows dim(), columns its tangent
+	Eigen::MatrixXd C_;                         ///< symmetric, dim() × dim()
+};
+}  // namespace swba::smoother::detail

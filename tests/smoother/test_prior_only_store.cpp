@@ -1,0 +1,193 @@
+// FixedLagSmootherOptions::store_prior_only on a linear-Gaussian SLAM-like problem, where the fixed-lag
+// estimate is exact: 2-D states in a chain and 2-D "landmarks" that each state observes by l − x = z.
+// Landmarks leave the window's view (stored as their conditional), some return (released into the
+// prior), one never does. At every step the window's states and every landmark (stored ones at their
+// conditional mean) must equal the batch solution over the data so far, and at the end the covariance
+// over the window and every landmark must equal the batch's marginal.
+#include <gtest/gtest.h>
+#include <swba/nonlinear/linearization.h>
+#include <swba/smoother/fixed_lag_smoother.h>
+
+#include "linear_gaussian.h"
+
+#include <Eigen/Dense>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <set>
+
+using namespace swba;
+using namespace swba::smoother;
+
+namespace
+{
+std::shared_ptr<test::LinearFactor> difference2(const Eigen::Vector2d& z, double sigma)
+{
+	Eigen::MatrixXd A(2, 4);
+	A << -1, 0, 1, 0, 0, -1, 0, 1;
+	auto f = std::make_shared<test::LinearFactor>(A, z, std::vector<int>{2, 2});
+	f->set_sigma(sigma);
+	return f;
+}
+
+/** The states observing each landmark: leaving and returning while the window slides. */
+const std::map<int, std::set<int>> kSeenBy = {
+	{0, {0, 1, 2, 3, 13, 14, 15}}, {1, {2, 3, 4, 5, 6}},   {2, {4, 5, 6, 7, 8, 9, 16}},
+	{3, {7, 8, 9, 10, 11}},        {4, {0, 1, 2}},         {5, {9, 10, 11, 12, 13, 14, 15, 16, 17}}};
+constexpr int kStates = 18, kLag = 3, kLandmarks = 6;
+
+Eigen::Vector2d state_truth(int j) { return {0.8 * j, 0.3 * std::sin(0.7 * j)}; }
+Eigen::Vector2d landmark_truth(int i) { return {2.0 * i - 1.0, 1.5 - 0.4 * i}; }
+/** A deterministic "noise" so the data disagree with each other. */
+Eigen::Vector2d wiggle(int a, int b) { return {0.03 * std::sin(1.3 * a + 0.7 * b), 0.02 * std::cos(0.9 * a - 1.1 * b)}; }
+
+struct Data
+{
+	std::vector<std::pair<std::pair<int, int>, std::shared_ptr<test::LinearFactor>>> odometry;  // (j−1, j)
+	std::vector<std::pair<std::pair<int, int>, std::shared_ptr<test::LinearFactor>>> readings;  // (j, landmark)
+	std::shared_ptr<test::LinearFactor> prior;
+};
+
+Data make_data()
+{
+	Data d;
+	d.prior = std::make_shared<test::LinearFactor>(Eigen::MatrixXd::Identity(2, 2), state_truth(0), std::vector<int>{2});
+	d.prior->set_sigma(0.01);
+	for (int j = 1; j < kStates; j++)
+		d.odometry.push_back({{j - 1, j}, difference2(state_truth(j) - state_truth(j - 1) + wiggle(j, 0), 0.1)});
+	for (const auto& [i, states] : kSeenBy)
+		for (int j : states)
+			d.readings.push_back({{j, i}, difference2(landmark_truth(i) - state_truth(j) + wiggle(j, i + 1), 0.05)});
+	return d;
+}
+
+/** The batch over states 0..j and the readings so far: solution and covariance over (states, landmarks seen). */
+struct Batch
+{
+	std::map<int, Eigen::Vector2d> state, landmark;
+	Eigen::MatrixXd cov;  ///< over states 0..j then the landmarks seen, in id order
+	std::vector<int> landmark_order;
+};
+
+Batch solve_batch(const Data& d, int j)
+{
+	Problem p;
+	std::vector<VariableId> xs;
+	std::map<int, VariableId> ls;
+	for (int s = 0; s <= j; s++) xs.push_back(p.add_variable(Eigen::Vector2d::Zero(), euclidean_manifold(2)));
+	p.add_factor(d.prior, {xs[0]});
+	for (const auto& [ij, f] : d.odometry)
+		if (ij.second <= j) p.add_factor(f, {xs[ij.first], xs[ij.second]});
+	for (const auto& [ji, f] : d.readings)
+		if (ji.first <= j)
+		{
+			if (!ls.count(ji.second)) ls[ji.second] = p.add_variable(Eigen::Vector2d::Zero(), euclidean_manifold(2));
+			p.add_factor(f, {xs[ji.first], ls[ji.second]});
+		}
+	std::vector<VariableId> order = xs;
+	Batch b;
+	for (const auto& [i, v] : ls)
+	{
+		order.push_back(v);
+		b.landmark_order.push_back(i);
+	}
+	const DenseLinearSystem sys = linearize_dense(p, order);
+	const Eigen::VectorXd x = sys.H.ldlt().solve(sys.b);  // from zero: one Gauss-Newton step is exact
+	for (int s = 0; s <= j; s++) b.state[s] = x.segment<2>(2 * s);
+	for (std::size_t k = 0; k < b.landmark_order.size(); k++)
+		b.landmark[b.landmark_order[k]] = x.segment<2>(2 * (j + 1 + static_cast<int>(k)));
+	b.cov = sys.H.inverse();
+	return b;
+}
+}  // namespace
+
+TEST(PriorOnlyStore, KeepsTheExactSolutionWhileLandmarksLeaveAndReturn)
+{
+	const Data d = make_data();
+	FixedLagSmootherOptions opt;
+	opt.lag = kLag;
+	opt.store_prior_only = true;
+	opt.solver.max_iterations = 50;
+	opt.solver.function_tolerance = opt.solver.gradient_tolerance = opt.solver.parameter_tolerance = 1e-15;
+	FixedLagSmoother sm(opt);
+	std::vector<VariableId> x;
+	std::map<int, VariableId> l;
+	std::set<VariableId> landmark_vars;
+	const auto is_landmark = [&](VariableId v) { return landmark_vars.count(v) > 0; };
+	double worst = 0;
+	int max_stored = 0, returns = 0;
+	std::set<int> stored_before;
+	for (int j = 0; j < kStates; j++)
+	{
+		x.push_back(sm.problem().add_variable(j > 0 ? Eigen::Vector2d(sm.problem().value(x.back())[0] + 0.8,
+																	   sm.problem().value(x.back())[1])
+													: Eigen::Vector2d::Zero(),
+											  euclidean_manifold(2)));
+		sm.add_state(j, x.back());
+		if (j == 0) sm.add_factor(d.prior, {x[0]});
+		for (const auto& [ij, f] : d.odometry)
+			if (ij.second == j) sm.add_factor(f, {x[ij.first], x[j]});
+		for (const auto& [ji, f] : d.readings)
+			if (ji.first == j)
+			{
+				if (!l.count(ji.second))
+				{
+					l[ji.second] = sm.problem().add_variable(Eigen::Vector2d(0.8 * j, 0.0), euclidean_manifold(2));
+					landmark_vars.insert(l[ji.second]);
+				}
+				if (stored_before.count(ji.second)) returns++;
+				sm.add_factor(f, {x[j], l[ji.second]});
+			}
+		const UpdateSummary u = sm.update(is_landmark);
+		ASSERT_TRUE(u.solver.is_solution_usable()) << "step " << j;
+		max_stored = std::max(max_stored, u.prior_only_eliminated);
+		stored_before.clear();
+		for (const auto& [i, v] : l)
+			if (sm.is_stored_prior_only(v)) stored_before.insert(i);
+
+		const Batch b = solve_batch(d, j);
+		for (const auto& s : sm.states())
+		{
+			const int k = static_cast<int>(std::find(x.begin(), x.end(), s.var) - x.begin());
+			const Eigen::Vector2d xk = Eigen::Map<const Eigen::Vector2d>(sm.problem().value(s.var));
+			worst = std::max(worst, (xk - b.state.at(k)).norm());
+		}
+		for (const auto& [i, v] : l)
+		{
+			const Eigen::Vector2d li = Eigen::Map<const Eigen::Vector2d>(sm.problem().value(v));
+			worst = std::max(worst, (li - b.landmark.at(i)).norm());
+		}
+		while (sm.over_lag()) sm.marginalize_oldest({});
+	}
+	std::printf("[store] max |estimate − batch| %.2g over %d steps; up to %d landmarks stored, %d readings of "
+				"stored landmarks\n", worst, kStates, max_stored, returns);
+	EXPECT_LT(worst, 1e-9);
+	// The store was used, and landmarks came back out of it (0, 2 and 5 return after leaving).
+	EXPECT_GE(max_stored, 2);
+	EXPECT_GE(returns, 2);
+
+	// The covariance over the window and every landmark, the stored ones released first.
+	sm.release_prior_only();
+	const Batch b = solve_batch(d, kStates - 1);
+	std::vector<VariableId> order;
+	std::vector<int> rows;
+	for (const auto& s : sm.states())
+	{
+		order.push_back(s.var);
+		const int k = static_cast<int>(std::find(x.begin(), x.end(), s.var) - x.begin());
+		rows.push_back(2 * k);
+	}
+	for (std::size_t k = 0; k < b.landmark_order.size(); k++)
+	{
+		order.push_back(l.at(b.landmark_order[k]));
+		rows.push_back(2 * kStates + 2 * static_cast<int>(k));
+	}
+	ASSERT_EQ(b.landmark_order.size(), static_cast<std::size_t>(kLandmarks));
+	const Eigen::MatrixXd cov = linearize_dense(sm.problem(), order).H.inverse();
+	Eigen::MatrixXd want(cov.rows(), cov.cols());
+	for (std::size_t r = 0; r < rows.size(); r++)
+		for (std::size_t c = 0; c < rows.size(); c++)
+			want.block<2, 2>(2 * static_cast<Eigen::Index>(r), 2 * static_cast<Eigen::Index>(c)) =
+				b.cov.block<2, 2>(rows[r], rows[c]);
+	EXPECT_LT((cov - want).norm(), 1e-9 * want.norm());
+}
