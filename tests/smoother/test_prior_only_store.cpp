@@ -33,8 +33,9 @@ std::shared_ptr<test::LinearFactor> difference2(const Eigen::Vector2d& z, double
 /** The states observing each landmark: leaving and returning while the window slides. */
 const std::map<int, std::set<int>> kSeenBy = {
 	{0, {0, 1, 2, 3, 13, 14, 15}}, {1, {2, 3, 4, 5, 6}},   {2, {4, 5, 6, 7, 8, 9, 16}},
-	{3, {7, 8, 9, 10, 11}},        {4, {0, 1, 2}},         {5, {9, 10, 11, 12, 13, 14, 15, 16, 17}}};
-constexpr int kStates = 18, kLag = 3, kLandmarks = 6;
+	{3, {7, 8, 9, 10, 11}},        {4, {0, 1, 2}},         {5, {9, 10, 11, 12, 13, 14, 15, 16, 17}},
+	{6, {3, 4, 5, 6, 15}}};  // leaves with 1 (both stored at once), returns without it
+constexpr int kStates = 18, kLag = 3, kLandmarks = 7;
 
 Eigen::Vector2d state_truth(int j) { return {0.8 * j, 0.3 * std::sin(0.7 * j)}; }
 Eigen::Vector2d landmark_truth(int i) { return {2.0 * i - 1.0, 1.5 - 0.4 * i}; }
@@ -162,9 +163,9 @@ TEST(PriorOnlyStore, KeepsTheExactSolutionWhileLandmarksLeaveAndReturn)
 	std::printf("[store] max |estimate − batch| %.2g over %d steps; up to %d landmarks stored, %d readings of "
 				"stored landmarks\n", worst, kStates, max_stored, returns);
 	EXPECT_LT(worst, 1e-9);
-	// The store was used, and landmarks came back out of it (0, 2 and 5 return after leaving).
+	// The store was used, and landmarks came back out of it (0, 2 and 6 return after leaving).
 	EXPECT_GE(max_stored, 2);
-	EXPECT_GE(returns, 2);
+	EXPECT_GE(returns, 3);
 
 	// The covariance over the window and every landmark, the stored ones released first.
 	sm.release_prior_only();

@@ -18,8 +18,7 @@ Eigen::MatrixXd spd_inverse(const Eigen::MatrixXd& A, double threshold)
 	if (llt.info() == Eigen::Success)
 	{
 		const Eigen::VectorXd d = llt.matrixL().toDenseMatrix().diagonal().cwiseAbs2();
-		if (d.minCoeff() > threshold * d.maxCoeff())
-			return llt.solve(Eigen::MatrixXd::Identity(A.rows(), A.cols()));
+		if (d.minCoeff() > threshold * d.maxCoeff()) return llt.solve(Eigen::MatrixXd::Identity(A.rows(), A.cols()));
 	}
 	return truncated_pseudo_inverse(A, threshold);
 }
@@ -31,15 +30,30 @@ Eigen::MatrixXd gather_rows(const Eigen::MatrixXd& M, const std::vector<int>& ro
 	return out;
 }
 
-Eigen::MatrixXd gather(const Eigen::MatrixXd& M, const std::vector<int>& rows, const std::vector<int>& cols)
+/** Columns `cols` of the first `n` rows of M. */
+Eigen::MatrixXd gather_columns(const Eigen::MatrixXd& M, Eigen::Index n, const std::vector<int>& cols)
 {
-	Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(cols.size()));
-	for (std::size_t j = 0; j < cols.size(); j++)
-		for (std::size_t i = 0; i < rows.size(); i++)
-			out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = M(rows[i], cols[j]);
+	Eigen::MatrixXd out(n, static_cast<Eigen::Index>(cols.size()));
+	for (std::size_t j = 0; j < cols.size(); j++) out.col(static_cast<Eigen::Index>(j)) = M.col(cols[j]).head(n);
 	return out;
 }
+
+/** M resized to `rows` × `cols`, the new part zero. */
+void grow(Eigen::MatrixXd& M, Eigen::Index rows, Eigen::Index cols)
+{
+	const Eigen::Index r0 = M.rows(), c0 = M.cols();
+	M.conservativeResize(rows, cols);
+	M.bottomRows(rows - r0).setZero();
+	M.topRightCorner(r0, cols - c0).setZero();
+}
 }  // namespace
+
+int PriorOnlyStore::dim() const
+{
+	int n = 0;
+	for (const auto& m : members_) n += m.dim;
+	return n;
+}
 
 bool PriorOnlyStore::contains(VariableId v) const
 {
@@ -72,28 +86,69 @@ std::vector<int> PriorOnlyStore::rows_of(const std::vector<VariableId>& vars) co
 	return rows;
 }
 
-void PriorOnlyStore::remove_rows(const std::vector<int>& drop)
+int PriorOnlyStore::allocate(int dim)
 {
-	std::vector<char> dropped(static_cast<std::size_t>(dim()), 0);
-	for (int r : drop) dropped[static_cast<std::size_t>(r)] = 1;
-	std::vector<int> keep;
-	for (int r = 0; r < dim(); r++)
-		if (!dropped[static_cast<std::size_t>(r)]) keep.push_back(r);
-	Eigen::VectorXd k(static_cast<Eigen::Index>(keep.size()));
-	for (std::size_t i = 0; i < keep.size(); i++) k[static_cast<Eigen::Index>(i)] = k_[keep[i]];
-	k_ = std::move(k);
-	for (auto& [v, K] : K_) K = gather_rows(K, keep);
-	C_ = gather(C_, keep, keep);
-	std::vector<Member> members;
-	int off = 0;
-	for (auto& m : members_)
-		if (!dropped[static_cast<std::size_t>(m.offset)])
+	for (auto it = free_.begin(); it != free_.end(); ++it)
+		if (it->second == dim)
 		{
-			m.offset = off;
-			off += m.dim;
-			members.push_back(std::move(m));
+			const int off = it->first;
+			free_.erase(it);
+			return off;
 		}
-	members_ = std::move(members);
+	const int off = used_;
+	used_ += dim;
+	const Eigen::Index cap = k_.size();
+	if (used_ > cap)
+	{
+		const Eigen::Index n = std::max<Eigen::Index>({2 * cap, used_, 48});
+		k_.conservativeResize(n);
+		k_.tail(n - cap).setZero();
+		for (auto& [w, K] : K_) grow(K, n, K.cols());
+		grow(C_, n, n);
+	}
+	return off;
+}
+
+void PriorOnlyStore::free_rows(const Member& m)
+{
+	const Eigen::Index n = used_;
+	k_.segment(m.offset, m.dim).setZero();
+	for (auto& [w, K] : K_) K.middleRows(m.offset, m.dim).setZero();
+	C_.middleRows(m.offset, m.dim).leftCols(n).setZero();
+	C_.middleCols(m.offset, m.dim).topRows(n).setZero();
+	free_.push_back({m.offset, m.dim});
+}
+
+void PriorOnlyStore::compact_if_sparse()
+{
+	int free_dim = 0;
+	for (const auto& f : free_) free_dim += f.second;
+	if (free_dim == 0 || 2 * free_dim < used_) return;
+	std::vector<int> rows;
+	for (auto& m : members_)
+	{
+		const int off = static_cast<int>(rows.size());
+		for (int r = 0; r < m.dim; r++) rows.push_back(m.offset + r);
+		m.offset = off;
+	}
+	const Eigen::Index n = static_cast<Eigen::Index>(rows.size()), cap = std::max<Eigen::Index>(n, 48);
+	Eigen::VectorXd k = Eigen::VectorXd::Zero(cap);
+	Eigen::MatrixXd C = Eigen::MatrixXd::Zero(cap, cap);
+	for (Eigen::Index i = 0; i < n; i++)
+	{
+		k[i] = k_[rows[static_cast<std::size_t>(i)]];
+		for (Eigen::Index j = 0; j < n; j++) C(i, j) = C_(rows[static_cast<std::size_t>(i)], rows[static_cast<std::size_t>(j)]);
+	}
+	for (auto& [w, K] : K_)
+	{
+		Eigen::MatrixXd Kn = Eigen::MatrixXd::Zero(cap, K.cols());
+		Kn.topRows(n) = gather_rows(K, rows);
+		K = std::move(Kn);
+	}
+	k_ = std::move(k);
+	C_ = std::move(C);
+	used_ = static_cast<int>(n);
+	free_.clear();
 }
 
 void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::vector<VariableId>& vars,
@@ -115,7 +170,7 @@ void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::v
 		const bool leaving = std::find(vars.begin(), vars.end(), pvars[i]) != vars.end();
 		for (int c = 0; c < n; c++) (leaving ? lcols : acols).push_back(off + c);
 		if (leaving)
-			joining.push_back({pvars[i], 0, n, prior.linearization_points()[i], var.manifold});
+			joining.push_back({pvars[i], -1, n, prior.linearization_points()[i], var.manifold});
 		else
 		{
 			avars.push_back(pvars[i]);
@@ -125,53 +180,64 @@ void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::v
 		off += n;
 	}
 	if (joining.size() != vars.size()) throw std::invalid_argument("PriorOnlyStore::absorb: variable not in the prior");
-	Eigen::MatrixXd H = prior.has_information() ? prior.H() : Eigen::MatrixXd(prior.J().transpose() * prior.J());
-	Eigen::VectorXd b = prior.has_information() ? prior.b() : Eigen::VectorXd(-(prior.J().transpose() * prior.e()));
+	const Eigen::MatrixXd H = prior.has_information() ? prior.H() : Eigen::MatrixXd(prior.J().transpose() * prior.J());
+	const Eigen::VectorXd b = prior.has_information() ? prior.b() : Eigen::VectorXd(-(prior.J().transpose() * prior.e()));
 	PartitionedNormalEquations s = partition_normal_equations(H, b, lcols, acols);
-	const Eigen::MatrixXd C_ll = spd_inverse(s.Hpp, threshold);
+	Eigen::MatrixXd C_ll = spd_inverse(s.Hpp, threshold);
+	C_ll = (0.5 * (C_ll + C_ll.transpose())).eval();  // (the solve's inverse is symmetric to rounding only)
 	ConditionalElimination c = eliminate_conditional(std::move(s), threshold);
 
-	// The stored rows depend on l through K_pl: substitute d_l = k_l − K_la d_a + ε_l.
-	const int np = dim(), nl = static_cast<int>(lcols.size());
-	Eigen::MatrixXd K_pl = Eigen::MatrixXd::Zero(np, nl);
+	// Rows for the joining variables, then the stored rows' dependence on them, K_pl (zero in new rows).
+	for (auto& m : joining) m.offset = allocate(m.dim);
+	const Eigen::Index n = used_, nl = static_cast<Eigen::Index>(lcols.size());
+	Eigen::MatrixXd K_pl = Eigen::MatrixXd::Zero(n, nl);
 	{
-		int c0 = 0;
+		Eigen::Index c0 = 0;
 		for (const auto& m : joining)
 		{
 			auto it = K_.find(m.var);
-			if (it != K_.end()) K_pl.middleCols(c0, m.dim) = it->second;
-			if (it != K_.end()) K_.erase(it);
+			if (it != K_.end())
+			{
+				K_pl.middleCols(c0, m.dim) = it->second.topRows(n);
+				K_.erase(it);
+			}
 			c0 += m.dim;
 		}
 	}
-	const int N = np + nl;
-	Eigen::VectorXd k(N);
-	k.head(np) = k_ - K_pl * c.k;
-	k.tail(nl) = c.k;
-	k_ = std::move(k);
+	// Substitute d_l = k_l − K_la d_a + ε_l in the stored rows, then write l's own rows.
+	k_.head(n).noalias() -= K_pl * c.k;
 	for (std::size_t i = 0, c0 = 0; i < avars.size(); c0 += static_cast<std::size_t>(adims[i]), i++)
 	{
 		const Eigen::MatrixXd K_la = c.K.middleCols(static_cast<Eigen::Index>(c0), adims[i]);
-		Eigen::MatrixXd Kw = Eigen::MatrixXd::Zero(N, adims[i]);
 		auto it = K_.find(avars[i]);
-		if (it != K_.end()) Kw.topRows(np) = it->second;
-		Kw.topRows(np).noalias() -= K_pl * K_la;
-		Kw.bottomRows(nl) = K_la;
-		K_[avars[i]] = std::move(Kw);
+		if (it == K_.end()) it = K_.emplace(avars[i], Eigen::MatrixXd::Zero(k_.size(), adims[i])).first;
+		it->second.topRows(n).noalias() -= K_pl * K_la;
+		Eigen::Index r0 = 0;
+		for (const auto& m : joining)
+		{
+			it->second.middleRows(m.offset, m.dim) = K_la.middleRows(r0, m.dim);
+			r0 += m.dim;
+		}
 	}
-	Eigen::MatrixXd C(N, N);
 	const Eigen::MatrixXd KC = K_pl * C_ll;
-	C.topLeftCorner(np, np) = C_;
-	C.topLeftCorner(np, np).noalias() += KC * K_pl.transpose();
-	C.topRightCorner(np, nl) = -KC;
-	C.bottomLeftCorner(nl, np) = -KC.transpose();
-	C.bottomRightCorner(nl, nl) = C_ll;
-	C_ = std::move(C);
-	int row = np;
+	C_.topLeftCorner(n, n).noalias() += KC * K_pl.transpose();
+	// l's rows: k_l, the cross-covariance −K_pl C_ll with every stored row, then (after all of those
+	// column writes) C_ll among the joining variables.
+	for (Eigen::Index i = 0, r0 = 0; i < static_cast<Eigen::Index>(joining.size()); r0 += joining[i].dim, i++)
+	{
+		const Member& m = joining[static_cast<std::size_t>(i)];
+		k_.segment(m.offset, m.dim) = c.k.segment(r0, m.dim);
+		C_.middleCols(m.offset, m.dim).topRows(n) = -KC.middleCols(r0, m.dim);
+		C_.middleRows(m.offset, m.dim).leftCols(n) = -KC.middleCols(r0, m.dim).transpose();
+	}
+	for (Eigen::Index i = 0, r0 = 0; i < static_cast<Eigen::Index>(joining.size()); r0 += joining[i].dim, i++)
+		for (Eigen::Index j = 0, s0 = 0; j < static_cast<Eigen::Index>(joining.size()); s0 += joining[j].dim, j++)
+		{
+			const Member &m = joining[static_cast<std::size_t>(i)], &q = joining[static_cast<std::size_t>(j)];
+			C_.block(m.offset, q.offset, m.dim, q.dim) = C_ll.block(r0, s0, m.dim, q.dim);
+		}
 	for (auto& m : joining)
 	{
-		m.offset = row;
-		row += m.dim;
 		problem.set_constant(m.var, true);
 		members_.push_back(std::move(m));
 	}
@@ -182,19 +248,12 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 {
 	if (vars.empty()) return;
 	const std::vector<int> lrows = rows_of(vars);
-	std::vector<int> prows;
-	{
-		std::vector<char> in_l(static_cast<std::size_t>(dim()), 0);
-		for (int r : lrows) in_l[static_cast<std::size_t>(r)] = 1;
-		for (int r = 0; r < dim(); r++)
-			if (!in_l[static_cast<std::size_t>(r)]) prows.push_back(r);
-	}
-	const Eigen::MatrixXd C_ll = gather(C_, lrows, lrows);
-	const Eigen::MatrixXd C_pl = gather(C_, prows, lrows);
+	const Eigen::Index n = used_, nl = static_cast<Eigen::Index>(lrows.size());
+	const Eigen::MatrixXd C_pl = gather_columns(C_, n, lrows);  // all stored rows, l's own included
+	const Eigen::MatrixXd C_ll = gather_rows(C_pl, lrows);
 	const Eigen::LLT<Eigen::MatrixXd> llt(C_ll);
 	if (llt.info() != Eigen::Success)
 		throw std::runtime_error("PriorOnlyStore::release: conditional covariance not positive definite");
-	const Eigen::Index nl = static_cast<Eigen::Index>(lrows.size());
 	Eigen::VectorXd k_l(nl);
 	for (Eigen::Index i = 0; i < nl; i++) k_l[i] = k_[lrows[static_cast<std::size_t>(i)]];
 
@@ -239,31 +298,40 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 	}
 
 	// The others conditioned on l as well (their mean at l's mean is unchanged): G = C_pl C_ll⁻¹,
-	// k_p −= G k_l, K_p −= G K_l, K_pl = −G, C_pp −= G C_lp.
+	// k_p −= G k_l, K_p −= G K_l, K_pl = −G, C_pp −= G C_lp (l's own rows, garbage, are freed below).
 	const Eigen::MatrixXd G = llt.solve(C_pl.transpose()).transpose();
-	for (std::size_t i = 0; i < prows.size(); i++) k_[prows[i]] -= G.row(static_cast<Eigen::Index>(i)).dot(k_l);
+	k_.head(n).noalias() -= G * k_l;
 	for (auto& [w, K] : K_)
 	{
 		const Eigen::MatrixXd K_l = gather_rows(K, lrows);
-		for (std::size_t i = 0; i < prows.size(); i++)
-			K.row(prows[i]).noalias() -= G.row(static_cast<Eigen::Index>(i)) * K_l;
+		K.topRows(n).noalias() -= G * K_l;
 	}
 	{
-		int c0 = 0;
+		Eigen::Index c0 = 0;
 		for (VariableId v : vars)
 		{
-			const int n = problem.variable(v).manifold->tangent_size();
-			Eigen::MatrixXd Kv = Eigen::MatrixXd::Zero(dim(), n);
-			for (std::size_t i = 0; i < prows.size(); i++)
-				Kv.row(prows[i]) = -G.row(static_cast<Eigen::Index>(i)).segment(c0, n);
+			const int d = problem.variable(v).manifold->tangent_size();
+			Eigen::MatrixXd Kv = Eigen::MatrixXd::Zero(k_.size(), d);
+			Kv.topRows(n) = -G.middleCols(c0, d);
 			K_[v] = std::move(Kv);
-			c0 += n;
+			c0 += d;
 		}
 	}
-	Eigen::MatrixXd C_pp = gather(C_, prows, prows);
-	C_pp.noalias() -= G * C_pl.transpose();
-	remove_rows(lrows);
-	C_ = std::move(C_pp);
+	C_.topLeftCorner(n, n).noalias() -= G * C_pl.transpose();
+	for (VariableId v : vars)
+	{
+		auto it = std::find_if(members_.begin(), members_.end(), [v](const Member& m) { return m.var == v; });
+		free_rows(*it);
+		members_.erase(it);
+	}
+	while (!free_.empty())  // free slots at the end shrink the used rows
+	{
+		auto last = std::max_element(free_.begin(), free_.end());
+		if (last->first + last->second != used_) break;
+		used_ = last->first;
+		free_.erase(last);
+	}
+	compact_if_sparse();
 	prior.append_rows(problem, vars, x_lin, J_rows, e_rows);
 }
 
@@ -272,26 +340,24 @@ void PriorOnlyStore::eliminate(const std::vector<VariableId>& marg, const std::v
 							   const Eigen::VectorXd& k_m, const Eigen::MatrixXd& K_m, const Eigen::MatrixXd& C_m)
 {
 	if (empty()) return;
-	Eigen::MatrixXd K_pm = Eigen::MatrixXd::Zero(dim(), K_m.rows());
+	const Eigen::Index n = used_;
+	Eigen::MatrixXd K_pm = Eigen::MatrixXd::Zero(n, K_m.rows());
 	for (std::size_t i = 0, c0 = 0; i < marg.size(); c0 += static_cast<std::size_t>(marg_dims[i]), i++)
 	{
 		auto it = K_.find(marg[i]);
 		if (it == K_.end()) continue;  // the store does not depend on it
-		K_pm.middleCols(static_cast<Eigen::Index>(c0), marg_dims[i]) = it->second;
+		K_pm.middleCols(static_cast<Eigen::Index>(c0), marg_dims[i]) = it->second.topRows(n);
 		K_.erase(it);
 	}
-	k_.noalias() -= K_pm * k_m;
+	k_.head(n).noalias() -= K_pm * k_m;
 	for (std::size_t i = 0, off = 0; i < keep.size(); off += static_cast<std::size_t>(keep_dims[i]), i++)
 	{
-		const Eigen::MatrixXd upd = K_pm * K_m.middleCols(static_cast<Eigen::Index>(off), keep_dims[i]);
 		auto it = K_.find(keep[i]);
-		if (it == K_.end())
-			K_[keep[i]] = -upd;
-		else
-			it->second -= upd;
+		if (it == K_.end()) it = K_.emplace(keep[i], Eigen::MatrixXd::Zero(k_.size(), keep_dims[i])).first;
+		it->second.topRows(n).noalias() -= K_pm * K_m.middleCols(static_cast<Eigen::Index>(off), keep_dims[i]);
 	}
 	const Eigen::MatrixXd KC = K_pm * C_m;
-	C_.noalias() += KC * K_pm.transpose();
+	C_.topLeftCorner(n, n).noalias() += KC * K_pm.transpose();
 }
 
 void PriorOnlyStore::shift_active(VariableId v, const Eigen::VectorXd& t)
@@ -321,7 +387,8 @@ void PriorOnlyStore::change_active(const VariableChange& change)
 void PriorOnlyStore::set_values(Problem& problem, const MarginalPrior& prior) const
 {
 	if (empty()) return;
-	Eigen::VectorXd d = k_;
+	const Eigen::Index n = used_;
+	Eigen::VectorXd d = k_.head(n);
 	for (const auto& [w, K] : K_)
 	{
 		const int idx = prior.index_of(w);
@@ -329,7 +396,7 @@ void PriorOnlyStore::set_values(Problem& problem, const MarginalPrior& prior) co
 		Eigen::VectorXd dw(K.cols());
 		problem.variable(w).manifold->minus(problem.value(w), prior.linearization_points()[static_cast<std::size_t>(idx)].data(),
 											dw.data());
-		d.noalias() -= K * dw;
+		d.noalias() -= K.topRows(n) * dw;
 	}
 	for (const auto& m : members_)
 	{

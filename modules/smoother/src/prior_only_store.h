@@ -43,8 +43,8 @@ class PriorOnlyStore
 	bool contains(VariableId v) const;
 	/** The stored variables, in storage order. */
 	std::vector<VariableId> variables() const;
-	/** Scalar dimension of the store (rows of k, K and C). */
-	int dim() const { return static_cast<int>(k_.size()); }
+	/** Scalar dimension of the stored variables. */
+	int dim() const;
 	/** x_lin of a stored variable (throws std::out_of_range if absent). */
 	const std::vector<double>& linearization_point(VariableId v) const;
 
@@ -85,12 +85,20 @@ class PriorOnlyStore
 	};
 	/** Rows of the members `vars`, in their order. */
 	std::vector<int> rows_of(const std::vector<VariableId>& vars) const;
-	/** Keeps only the rows (and columns of C) not in `drop`. */
-	void remove_rows(const std::vector<int>& drop);
+	/** Rows for a new member of `dim`: a free slot of that size, else appended (storage grows). */
+	int allocate(int dim);
+	/** Zeroes the rows (and columns of C) of `m` and frees them. */
+	void free_rows(const Member& m);
+	/** Rewrites the storage without free slots once they are half of it. */
+	void compact_if_sparse();
 
+	// Rows [0, used_) of k, K and C are members' rows or free slots (zero); storage may be larger, so
+	// that a landmark joining or leaving costs no copy of C (updates are in place, O(used²) per rank).
 	std::vector<Member> members_;
+	std::vector<std::pair<int, int>> free_;  ///< (offset, dim) of free slots below used_
+	int used_ = 0;
 	Eigen::VectorXd k_;
-	std::map<VariableId, Eigen::MatrixXd> K_;  ///< by active variable: rows dim(), columns its tangent
-	Eigen::MatrixXd C_;                         ///< symmetric, dim() × dim()
+	std::map<VariableId, Eigen::MatrixXd> K_;  ///< by active variable: storage rows, its tangent columns
+	Eigen::MatrixXd C_;                         ///< symmetric over the storage rows
 };
 }  // namespace swba::smoother::detail
