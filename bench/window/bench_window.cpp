@@ -300,9 +300,10 @@ struct BenchCommandLine
 		false, 0, "N"};
 	TCLAP::ValueArg<int> slam_large_steps{
 		"", "slam-large-steps",
-		"steps of the large rawlog given to the SLAM-policy window (0 = all; its state holds every landmark seen, "
-		"so its cost grows with the map). (Default: 1000)",
-		false, 1000, "N"};
+		"steps of the large rawlog given to the SLAM-policy window (0 = all; its prior holds every landmark seen, "
+		"so its cost grows with the map: quadratically with landmark IDs, cubically with data association). "
+		"(Default: 0)",
+		false, 0, "N"};
 	TCLAP::SwitchArg no_small{"", "no-small", "skip the small rawlog"};
 	TCLAP::SwitchArg no_large{"", "no-large", "skip the large rawlog"};
 	TCLAP::SwitchArg no_ekf{"", "no-ekf", "skip the EKF"};
