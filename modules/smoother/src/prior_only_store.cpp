@@ -48,13 +48,6 @@ void grow(Eigen::MatrixXd& M, Eigen::Index rows, Eigen::Index cols)
 }
 }  // namespace
 
-int PriorOnlyStore::dim() const
-{
-	int n = 0;
-	for (const auto& m : members_) n += m.dim;
-	return n;
-}
-
 bool PriorOnlyStore::contains(VariableId v) const
 {
 	return std::any_of(members_.begin(), members_.end(), [v](const Member& m) { return m.var == v; });

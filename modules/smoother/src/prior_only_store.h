@@ -43,8 +43,6 @@ class PriorOnlyStore
 	bool contains(VariableId v) const;
 	/** The stored variables, in storage order. */
 	std::vector<VariableId> variables() const;
-	/** Scalar dimension of the stored variables. */
-	int dim() const;
 	/** x_lin of a stored variable (throws std::out_of_range if absent). */
 	const std::vector<double>& linearization_point(VariableId v) const;
 
