@@ -4,6 +4,7 @@
 #include <swba/core/factor.h>
 
 #include <Eigen/Core>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -38,4 +39,14 @@ class LinearFactor final : public Factor
 	Eigen::MatrixXd A_;
 	Eigen::VectorXd z_;
 };
+
+/** The difference factor x_j − x_i = d between two 2-D variables (i, j), standard deviation sigma. */
+inline std::shared_ptr<LinearFactor> difference2(const Eigen::Vector2d& d, double sigma)
+{
+	Eigen::MatrixXd A(2, 4);
+	A << -1, 0, 1, 0, 0, -1, 0, 1;
+	auto f = std::make_shared<LinearFactor>(A, d, std::vector<int>{2, 2});
+	f->set_sigma(sigma);
+	return f;
+}
 }  // namespace swba::test

@@ -15,16 +15,6 @@ using namespace swba::smoother;
 
 namespace
 {
-/** Between factor x_j − x_i = d on 2-D states, standard deviation sigma. */
-std::shared_ptr<test::LinearFactor> between2(const Eigen::Vector2d& d, double sigma)
-{
-	Eigen::MatrixXd A(2, 4);
-	A << -1, 0, 1, 0, 0, -1, 0, 1;
-	auto f = std::make_shared<test::LinearFactor>(A, d, std::vector<int>{2, 2});
-	f->set_sigma(sigma);
-	return f;
-}
-
 /** The chain x0 … x(n−1) (2-D): a prior on x0, odometry-like steps and loops two states back. */
 struct Chain
 {
@@ -42,8 +32,9 @@ Chain make_chain(int n)
 	c.prior->set_sigma(0.1);
 	for (int j = 1; j < n; j++)
 	{
-		c.factors.push_back({{j - 1, j}, between2(Eigen::Vector2d(1.0 + 0.1 * (j % 2), 0.2 * (j % 3) - 0.2), 0.2)});
-		if (j >= 2) c.factors.push_back({{j - 2, j}, between2(Eigen::Vector2d(2.05, 0.3 - 0.1 * j), 0.5)});
+		c.factors.push_back(
+			{{j - 1, j}, test::difference2(Eigen::Vector2d(1.0 + 0.1 * (j % 2), 0.2 * (j % 3) - 0.2), 0.2)});
+		if (j >= 2) c.factors.push_back({{j - 2, j}, test::difference2(Eigen::Vector2d(2.05, 0.3 - 0.1 * j), 0.5)});
 	}
 	return c;
 }

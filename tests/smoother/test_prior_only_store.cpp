@@ -21,15 +21,6 @@ using namespace swba::smoother;
 
 namespace
 {
-std::shared_ptr<test::LinearFactor> difference2(const Eigen::Vector2d& z, double sigma)
-{
-	Eigen::MatrixXd A(2, 4);
-	A << -1, 0, 1, 0, 0, -1, 0, 1;
-	auto f = std::make_shared<test::LinearFactor>(A, z, std::vector<int>{2, 2});
-	f->set_sigma(sigma);
-	return f;
-}
-
 /** The states observing each landmark: leaving and returning while the window slides. */
 const std::map<int, std::set<int>> kSeenBy = {
 	{0, {0, 1, 2, 3, 13, 14, 15}}, {1, {2, 3, 4, 5, 6}},   {2, {4, 5, 6, 7, 8, 9, 16}},
@@ -55,10 +46,10 @@ Data make_data()
 	d.prior = std::make_shared<test::LinearFactor>(Eigen::MatrixXd::Identity(2, 2), state_truth(0), std::vector<int>{2});
 	d.prior->set_sigma(0.01);
 	for (int j = 1; j < kStates; j++)
-		d.odometry.push_back({{j - 1, j}, difference2(state_truth(j) - state_truth(j - 1) + wiggle(j, 0), 0.1)});
+		d.odometry.push_back({{j - 1, j}, test::difference2(state_truth(j) - state_truth(j - 1) + wiggle(j, 0), 0.1)});
 	for (const auto& [i, states] : kSeenBy)
 		for (int j : states)
-			d.readings.push_back({{j, i}, difference2(landmark_truth(i) - state_truth(j) + wiggle(j, i + 1), 0.05)});
+			d.readings.push_back({{j, i}, test::difference2(landmark_truth(i) - state_truth(j) + wiggle(j, i + 1), 0.05)});
 	return d;
 }
 
