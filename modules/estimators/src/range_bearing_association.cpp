@@ -154,6 +154,7 @@ RangeBearingGraph::JointPrediction RangeBearingGraph::predict_jointly(std::size_
 	out.points.resize(targets.size());
 	out.jacobian = Eigen::MatrixXd::Zero(n * dim, D);
 	out.own.assign(targets.size(), Eigen::MatrixXd::Zero(dim, dim));
+	out.support.resize(targets.size());
 	std::vector<double> xp, xm;
 	for (int j = 0; j < n; j++)
 	{
@@ -164,9 +165,12 @@ RangeBearingGraph::JointPrediction RangeBearingGraph::predict_jointly(std::size_
 		if (t.map) out.own[tj] = map_noise(k, *t.map);
 		std::vector<VariableId> with_pose{pose};
 		with_pose.insert(with_pose.end(), vars[tj].begin(), vars[tj].end());
+		std::sort(with_pose.begin(), with_pose.end());
+		with_pose.erase(std::unique(with_pose.begin(), with_pose.end()), with_pose.end());
 		for (VariableId v : with_pose)
 		{
 			const Manifold& M = *problem.variable(v).manifold;
+			out.support[tj].emplace_back(at.at(v), M.tangent_size());
 			const double* x = problem.value(v);
 			xp.resize(static_cast<std::size_t>(M.ambient_size()));
 			xm.resize(xp.size());
@@ -187,7 +191,11 @@ RangeBearingGraph::JointPrediction RangeBearingGraph::predict_jointly(std::size_
 
 Eigen::MatrixXd RangeBearingGraph::JointPrediction::covariance_of(int a, int b, int dim) const
 {
-	Eigen::MatrixXd S = jacobian.middleRows(a * dim, dim) * covariance * jacobian.middleRows(b * dim, dim).transpose();
+	Eigen::MatrixXd S = Eigen::MatrixXd::Zero(dim, dim);
+	for (const auto& [ca, na] : support[static_cast<std::size_t>(a)])
+		for (const auto& [cb, nb] : support[static_cast<std::size_t>(b)])
+			S.noalias() += jacobian.block(a * dim, ca, dim, na) * covariance.block(ca, cb, na, nb) *
+						   jacobian.block(b * dim, cb, dim, nb).transpose();
 	if (a == b) S += own[static_cast<std::size_t>(a)];
 	return S;
 }

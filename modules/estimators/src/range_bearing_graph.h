@@ -262,7 +262,11 @@ class RangeBearingGraph
 		Eigen::MatrixXd jacobian;          ///< (targets × reading_dof) × the group's tangent
 		Eigen::MatrixXd covariance;        ///< the group's joint covariance
 		std::vector<Eigen::MatrixXd> own;  ///< per target, noise that is not a window variable's
-		/** The reading_dof-sized block (a, b) of the predictions' joint covariance. */
+		/** Per target, the column ranges (first, size) of `jacobian` its rows may be non-zero in: the new
+		 * pose's and its own variables'. */
+		std::vector<std::vector<std::pair<int, int>>> support;
+		/** The reading_dof-sized block (a, b) of the predictions' joint covariance,
+		 * J_a Σ J_bᵀ over the two targets' supports only (O(dim² · support²), not O(dim · D²)). */
 		Eigen::MatrixXd covariance_of(int a, int b, int dim) const;
 	};
 	JointPrediction predict_jointly(std::size_t k, const std::vector<PredictionTarget>& targets);
