@@ -14,6 +14,7 @@ NormalEquations::NormalEquations(const Program& program, const ProgramEvaluator&
 	collect_blocks();
 	sort_pp_blocks();
 	lay_out_storage();
+	lay_out_cache();
 }
 
 void NormalEquations::collect_blocks()
@@ -116,6 +117,53 @@ void NormalEquations::lay_out_storage()
 	g_.assign(program_.kept_dim() + program_.elim_dim(), 0.0);
 }
 
+void NormalEquations::lay_out_cache()
+{
+	const auto& kept = program_.kept();
+	const auto& elim = program_.elim();
+	int off = 0;
+	auto constant = [&](int f) { return !program_.factor(f).loss && program_.factor(f).factor->constant_jacobian(); };
+	for (size_t b = 0; b < pp_blocks_.size(); b++)
+		for (auto& c : pp_contrib_[b])
+			if (constant(c.factor))
+			{
+				c.cache = off;
+				off += kept[pp_blocks_[b].first].tangent * kept[pp_blocks_[b].second].tangent;
+			}
+	for (auto& pb : pl_blocks_)
+		for (auto& c : pb.contrib)
+			if (constant(c.factor))
+			{
+				c.cache = off;
+				off += kept[pb.kept].tangent * elim[pb.elim].tangent;
+			}
+	cache_.assign(off, 0.0);
+	cache_ready_.assign(off, 0);
+}
+
+void NormalEquations::add_contribution(const Contribution& c, int na, int nb, bool transpose_slots, double* H)
+{
+	const int sa = transpose_slots ? c.slot_b : c.slot_a, sb = transpose_slots ? c.slot_a : c.slot_b;
+	const double* A = evaluator_.jacobian(c.factor, sa);
+	const double* B = evaluator_.jacobian(c.factor, sb);
+	const int m = program_.factor(c.factor).m;
+	if (c.cache < 0)
+	{
+		add_AtB(A, B, m, na, nb, H);
+		return;
+	}
+	// The cached product is the sum add_AtB adds to H (formed on zeros): H gets the same bits wherever
+	// add_AtB forms the block's sum before adding it (its fixed-size kernels, block sizes 1, 2, 3, 6).
+	double* P = cache_.data() + c.cache;
+	if (!cache_ready_[c.cache])
+	{
+		std::fill(P, P + na * nb, 0.0);
+		add_AtB(A, B, m, na, nb, P);
+		cache_ready_[c.cache] = 1;
+	}
+	for (int k = 0; k < na * nb; k++) H[k] += P[k];
+}
+
 void NormalEquations::assemble_pp(int b)
 {
 	const auto& kept = program_.kept();
@@ -123,11 +171,7 @@ void NormalEquations::assemble_pp(int b)
 	double* H = Hpp_.data() + pp_offset_[b];
 	std::fill(H, H + na * nb, 0.0);
 	for (const auto& c : pp_contrib_[b])
-	{
-		if (!evaluator_.valid(c.factor)) continue;
-		add_AtB(evaluator_.jacobian(c.factor, c.slot_a), evaluator_.jacobian(c.factor, c.slot_b),
-				program_.factor(c.factor).m, na, nb, H);
-	}
+		if (evaluator_.valid(c.factor)) add_contribution(c, na, nb, false, H);
 }
 
 void NormalEquations::assemble_pl(int b)
@@ -137,11 +181,7 @@ void NormalEquations::assemble_pl(int b)
 	double* H = Hlp_.data() + pb.offset;  // H_lp = Σ J_lᵀ J_p (nl × na)
 	std::fill(H, H + na * nl, 0.0);
 	for (const auto& c : pb.contrib)
-	{
-		if (!evaluator_.valid(c.factor)) continue;
-		add_AtB(evaluator_.jacobian(c.factor, c.slot_b), evaluator_.jacobian(c.factor, c.slot_a),
-				program_.factor(c.factor).m, nl, na, H);
-	}
+		if (evaluator_.valid(c.factor)) add_contribution(c, nl, na, true, H);
 }
 
 void NormalEquations::assemble_ll(int l)

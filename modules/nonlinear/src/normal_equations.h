@@ -12,10 +12,13 @@
 
 namespace swba::detail
 {
-/** One factor's contribution to a block (a, b) of H: Jᵀ_{slot_a} J_{slot_b}. */
+/** One factor's contribution to a block (a, b) of H: Jᵀ_{slot_a} J_{slot_b}. `cache` ≥ 0 for a factor
+ * whose whitened Jacobian is constant (Factor::constant_jacobian, no loss): the product's offset in the
+ * cache, formed at the first assembly of the solve and added from there afterwards. */
 struct Contribution
 {
 	int factor, slot_a, slot_b;
+	int cache = -1;
 };
 
 /** An eliminated-kept block, stored as H_lp = H_plᵀ (elim rows × kept columns, row-major) so that the
@@ -65,6 +68,11 @@ class NormalEquations
 	void sort_pp_blocks();
 	void lay_out_storage();
 
+	/** Gives every contribution of a constant-Jacobian factor its cache offset. */
+	void lay_out_cache();
+	/** H (na × nb) += contribution c, from its cache when it has one. */
+	void add_contribution(const Contribution& c, int na, int nb, bool transpose_slots, double* H);
+
 	void assemble_pp(int b);
 	void assemble_pl(int b);
 	void assemble_ll(int l);
@@ -85,5 +93,7 @@ class NormalEquations
 	std::vector<int> ll_offset_;
 	std::vector<double> Hll_;
 	std::vector<double> g_;  // [kept; elim]
+	std::vector<double> cache_;       // Jᵀ J products of constant-Jacobian factors
+	std::vector<char> cache_ready_;   // per cached contribution, at its cache offset
 };
 }  // namespace swba::detail

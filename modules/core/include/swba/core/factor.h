@@ -27,6 +27,11 @@ class Factor
 	 * the solver then drops the factor for that evaluation and counts it. */
 	virtual bool evaluate(const double* const* x, double* residual, double* const* jacobians) const = 0;
 
+	/** True when the Jacobians evaluate() writes do not depend on x (a factor linear in its variables'
+	 * tangent offsets, like the marginalisation prior). Without a loss, the solver then forms the
+	 * factor's Jᵀ J blocks once per solve instead of at every linearisation. Default false. */
+	virtual bool constant_jacobian() const { return false; }
+
 	/** Sets the information matrix Λ (residual_dim², symmetric positive definite); W = Lᵀ with Λ = L·Lᵀ.
 	 * Throws std::invalid_argument if Λ is not symmetric positive definite. */
 	void set_information(const Eigen::MatrixXd& information);

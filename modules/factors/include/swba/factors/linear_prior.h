@@ -26,6 +26,8 @@ class LinearPriorFactor final : public Factor
 					  std::vector<std::shared_ptr<const Manifold>> manifolds);
 
 	bool evaluate(const double* const* x, double* residual, double* const* jacobians) const override;
+	/** The reported Jacobians are the constant J_i. */
+	bool constant_jacobian() const override { return true; }
 
 	const Eigen::MatrixXd& J() const { return J_; }
 	const Eigen::VectorXd& e() const { return e_; }
