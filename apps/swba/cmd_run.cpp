@@ -46,6 +46,11 @@ struct RunCommandLine
 									false, "", "FILE"};
 	TCLAP::ValueArg<std::string> windows{"", "windows", "window sizes W, comma-separated, each >= 2 (Default: 5,10,20,30)",
 										 false, "", "LIST"};
+	TCLAP::ValueArg<int> relinearized{
+		"", "relinearized-poses",
+		"poses of each window re-linearised at every step, the newest K (>= 2); the older ones are smoothed "
+		"as frozen linear conditionals (doc/window.md); 0 = the whole window (Default: 2)",
+		false, 0, "K"};
 	TCLAP::SwitchArg no_ekf{"", "no-ekf", "do not run MRPT's EKF"};
 	TCLAP::SwitchArg no_batch{"", "no-batch", "do not run the batch estimator"};
 	TCLAP::SwitchArg causal{"", "causal",
@@ -104,7 +109,7 @@ struct RunCommandLine
 		// --help lists them in this order (cli.cpp): input, main choices, tuning, output, verbosity.
 		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{
 				 &rawlog, &gt, &config,                                                      //
-				 &windows, &no_ekf, &no_batch, &causal, &ekf_method, &policy, &fej, &landmarks, &gauge, &association,  //
+				 &windows, &relinearized, &no_ekf, &no_batch, &causal, &ekf_method, &policy, &fej, &landmarks, &gauge, &association,  //
 				 &std_range, &std_yaw, &std_pitch, &gate, &gate_probability, &robust_loss, &robust_probability,
 				 &max_steps, &threads,  //
 				 &out, &no_plots,       //
@@ -118,6 +123,12 @@ struct RunCommandLine
 		if (rawlog.isSet()) o.rawlog = rawlog.getValue();
 		if (gt.isSet()) o.ground_truth = gt.getValue();
 		if (windows.isSet()) o.windows = apps::parse_window_list(windows.getValue(), "--windows");
+		if (relinearized.isSet())
+		{
+			if (relinearized.getValue() < 0 || relinearized.getValue() == 1)
+				throw UsageError("--relinearized-poses must be >= 2 or 0");
+			o.window.relinearized_poses = relinearized.getValue();
+		}
 		if (no_ekf.isSet()) o.run_ekf = false;
 		if (no_batch.isSet()) o.run_batch = false;
 		if (causal.isSet()) o.run_causal = true;

@@ -37,7 +37,7 @@ std::string non_default_ini()
 	return "[run]\nrawlog = a.rawlog\nground_truth = a_gt.txt\nout_dir = elsewhere\nmax_steps = 7\n"
 		   "batch = false\nbatch_max_iterations = 3\ncausal = true\nplots = false\nprogress = false\nverbose = true\n"
 		   "[window]\nsizes = 3,4\npolicy = both\nfej = off\nlandmarks = xyz\nmodel = 2d\ngauge = prior\ngauge_prior_weight = 5\n"
-		   "marginalization_threshold = 0.5\ngate = false\ngate_probability = 0.5\nrobust_loss = cauchy\n"
+		   "relinearized_poses = 4\nmarginalization_threshold = 0.5\ngate = false\ngate_probability = 0.5\nrobust_loss = cauchy\n"
 		   "robust_probability = 0.75\ncovariances = false\n"
 		   "association = nn\nreassociate = false\n"
 		   "[solver]\nmax_iterations = 4\nfunction_tolerance = 0.5\ngradient_tolerance = 0.25\n"

@@ -32,6 +32,7 @@ double window_vs_batch(std::size_t steps, int W, std::size_t* marginalised)
 	const auto rawlog = first_steps(test::demo_rawlog(), steps);
 	SlidingWindowOptions opt;
 	opt.window_size = W;
+	opt.relinearized_poses = 0;  // every window pose re-linearised: the window is the batch problem
 	opt.solver.function_tolerance = 1e-14;
 	opt.solver.max_iterations = 30;
 	SlidingWindowEstimator est(opt);

@@ -58,7 +58,7 @@ void RangeBearingGraph::centre_gate(const std::vector<std::pair<std::int32_t, Ob
 			const auto lm = landmarks_.find(id);
 			if (lm == landmarks_.end()) continue;
 			if (!reading_residual(world_position(lm->second), o, gate_centre_.data(), r, &JT)) continue;
-			const double n = static_cast<double>(std::max<std::size_t>(lm->second.obs.size(), 1));
+			const double n = static_cast<double>(std::max<std::size_t>(window_readings(lm->second), 1));
 			const Eigen::VectorXd s_inv = reading_sigma(o).cwiseAbs2().cwiseInverse() / (1.0 + 1.0 / n);
 			const double w = 1.0 / (1.0 + r.dot(s_inv.cwiseProduct(r)) / gate_threshold_);  // Cauchy
 			A.noalias() += w * JT.transpose() * s_inv.asDiagonal() * JT;
@@ -83,7 +83,7 @@ Eigen::Vector3d RangeBearingGraph::world_position(const Landmark& lm) const
 double RangeBearingGraph::gate_distance(const Landmark& lm, const Observation& o, const Eigen::MatrixXd* pose_cov,
 									   const double* pose_x) const
 {
-	return innovation_distance(world_position(lm), lm.obs.size(), o, pose_cov, pose_x);
+	return innovation_distance(world_position(lm), window_readings(lm), o, pose_cov, pose_x);
 }
 
 void RangeBearingGraph::admit_reading(std::int32_t id, const Observation& o, StepSummary& sum)
@@ -180,6 +180,31 @@ void RangeBearingGraph::expire_readings_at(std::size_t k)
 		w.erase(end, w.end());
 		it = w.empty() ? unconfirmed_.erase(it) : std::next(it);
 	}
+}
+
+void RangeBearingGraph::hold_tail_readings(std::size_t k)
+{
+	std::vector<std::pair<std::int32_t, std::size_t>> read;
+	for (auto& [id, lm] : landmarks_)
+	{
+		const auto n = static_cast<std::size_t>(
+			std::count_if(lm.obs.begin(), lm.obs.end(), [k](const Observation& o) { return o.pose_step == k; }));
+		if (n == 0) continue;
+		lm.tail_readings += n;
+		read.emplace_back(id, n);
+	}
+	tail_readings_.push_back(std::move(read));
+}
+
+void RangeBearingGraph::release_tail_readings()
+{
+	if (tail_readings_.empty()) return;
+	for (const auto& [id, n] : tail_readings_.front())
+	{
+		const auto it = landmarks_.find(id);
+		if (it != landmarks_.end()) it->second.tail_readings -= std::min(n, it->second.tail_readings);
+	}
+	tail_readings_.pop_front();
 }
 
 void RangeBearingGraph::finish_counts()

@@ -23,7 +23,9 @@ SlidingWindowOptions validated(const SlidingWindowOptions& options)
 smoother::FixedLagSmootherOptions smoother_options(const SlidingWindowOptions& o)
 {
 	smoother::FixedLagSmootherOptions s;
-	s.lag = o.window_size;
+	// The re-linearised poses are the smoother's window; the rest of the window W is its linear tail.
+	s.lag = o.relinearized_window();
+	s.linear_lag = o.window_size - s.lag;
 	s.first_estimate_jacobians = o.first_estimate_jacobians;
 	s.marginalization_threshold = o.marginalization_threshold;
 	s.eliminate_prior_only = o.eliminate_prior_only_landmarks;

@@ -17,6 +17,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <set>
 #include <string>
@@ -42,6 +43,8 @@ struct Landmark
 	 * was switched to world XYZ (a parameterisation no later marginalisation has to change). */
 	bool world_xyz = false;
 	std::vector<Observation> obs;  ///< observations whose factors are still in the problem
+	/** Readings of poses in the smoother's linear tail (still in the window W, no longer factors). */
+	std::size_t tail_readings = 0;
 	/** Readings held out by the χ² gate whose pose is still in the window (no factor). */
 	std::vector<Observation> held;
 };
@@ -104,6 +107,13 @@ class RangeBearingGraph
 	/** Before pose step `k` is marginalised: its held readings and unconfirmed first readings are
 	 * dropped for good (counted). */
 	void expire_readings_at(std::size_t k);
+	/** The readings of pose step k (leaving the re-linearised poses for the linear tail) still count
+	 * for their landmarks' gate (window_readings) until release_tail_readings() at lag W. */
+	void hold_tail_readings(std::size_t k);
+	/** The oldest pose of the linear tail left the window: its readings no longer count. */
+	void release_tail_readings();
+	/** Readings of `lm` in the window W: its factors' and those of the linear tail's poses. */
+	static std::size_t window_readings(const Landmark& lm) { return lm.obs.size() + lm.tail_readings; }
 	/** Batch: re-tests every reading against the current estimate; readings outside the gate lose their
 	 * factor, held ones inside it get one back (a landmark keeps at least its best-fitting reading).
 	 * Returns whether the admitted set changed. */
@@ -335,6 +345,8 @@ class RangeBearingGraph
 	std::vector<PoseRecord> poses_;
 	std::map<VariableId, std::size_t> step_of_;
 	std::map<std::int32_t, Landmark> landmarks_;
+	/** Per pose of the linear tail, oldest first: the landmarks it read and how often. */
+	std::deque<std::vector<std::pair<std::int32_t, std::size_t>>> tail_readings_;
 	std::map<VariableId, std::int32_t> landmark_of_var_;
 	std::map<std::int32_t, MapLandmark> map_;  ///< Map policy (landmark_policy.cpp)
 	mrpt::poses::CPose3D last_sensor_;

@@ -5,8 +5,11 @@
 
 #include "range_bearing_graph.h"
 
+#include <swba/core/manifold.h>
+
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <cmath>
 #include <optional>
 #include <set>
@@ -26,6 +29,9 @@ struct SlidingWindowEstimator::Impl
 	eval::Trajectory online, lagged;
 	std::vector<PoseCovariance> online_cov, lagged_cov;
 	PoseCovariance leaving_cov;  ///< the oldest pose's, from this step's solve (when it leaves)
+	/** With re-linearised poses < W: the covariances of the poses in the smoother's linear tail, oldest
+	 * first, as of their leaving the re-linearised part (reported with them at lag W). */
+	std::deque<PoseCovariance> tail_cov;
 	std::vector<StepSummary> summaries;
 	std::optional<mrpt::poses::CPose3D> initial_left;  ///< the initial pose's estimate when it left the window
 	bool finished = false;
@@ -47,6 +53,7 @@ struct SlidingWindowEstimator::Impl
 		{
 			graph.hold_gauge(before);
 			smoother().update_prior_only_values();
+			smoother().smooth_linear_states();
 		}
 		sum.prior_only_landmarks = u.prior_only_eliminated;
 		sum.solve_seconds = seconds_since(ts) - u.covariance.seconds;
@@ -120,15 +127,41 @@ struct SlidingWindowEstimator::Impl
 		const std::set<VariableId> leaving = landmarks_leaving_with(o, sum);
 		sum.down_weighted = graph.count_down_weighted(graph.reading_factors_leaving(o, leaving));
 		graph.expire_readings_at(o);
-		lagged.push_back(oldest.time, graph.pose(oldest.var));
-		if (opt().covariances) lagged_cov.push_back(leaving_cov);
-		if (oldest.var == graph.poses().front().var) initial_left = graph.pose(oldest.var);
+		if (smoother().options().linear_lag > 0)
+		{
+			if (opt().covariances) tail_cov.push_back(leaving_cov);
+			graph.hold_tail_readings(o);
+		}
+		else
+			emit_lagged(oldest.time, oldest.var, graph.pose(oldest.var), leaving_cov);
 		if (opt().policy == LandmarkPolicy::Map) sum.landmarks_not_mapped = graph.keep_in_map(leaving);
 		const smoother::MarginalizationSummary m = smoother().marginalize_oldest(leaving);
 		sum.unevaluable_factors = m.unevaluable_factors;
 		graph.forget_observations(m.removed);
 		for (VariableId v : leaving)
 			if (graph.forget_landmark(v)) sum.marginalized_landmarks++;
+	}
+
+	/** Appends a pose leaving the window at lag W to the lagged output. */
+	void emit_lagged(double time, VariableId var, const mrpt::poses::CPose3D& pose, const PoseCovariance& cov)
+	{
+		lagged.push_back(time, pose);
+		if (opt().covariances) lagged_cov.push_back(cov);
+		if (var == graph.poses().front().var) initial_left = pose;
+	}
+
+	/** The oldest pose of the linear tail leaves at lag W (re-linearised poses < W). */
+	void emit_oldest_linear()
+	{
+		const smoother::LinearState s = smoother().pop_oldest_linear();
+		graph.release_tail_readings();
+		PoseCovariance cov;
+		if (opt().covariances)
+		{
+			cov = tail_cov.front();
+			tail_cov.pop_front();
+		}
+		emit_lagged(s.time, s.var, SE3Manifold::to_pose(s.value.data()), cov);
 	}
 
 	const StepSummary& process(const io::RawlogStep& step)
@@ -145,9 +178,10 @@ struct SlidingWindowEstimator::Impl
 		{
 			const auto tm = Clock::now();
 			marginalize_oldest(sum);
+			while (smoother().linear_over_lag()) emit_oldest_linear();
 			sum.marginalization_seconds = seconds_since(tm);
 		}
-		sum.window_poses = static_cast<int>(smoother().states().size());
+		sum.window_poses = static_cast<int>(smoother().states().size() + smoother().linear_states().size());
 		sum.landmarks = static_cast<int>(graph.landmarks().size());
 		sum.prior_rank = smoother().prior().rank();
 		sum.prior_variables = static_cast<int>(smoother().prior().variables().size());
@@ -163,6 +197,12 @@ struct SlidingWindowEstimator::Impl
 		if (graph.poses().empty()) return;  // no step processed (model still undecided)
 		graph.finish_counts();
 		const VariableId initial = graph.poses().front().var;
+		for (const smoother::LinearState& s : smoother().linear_states())
+		{
+			if (s.var != initial) lagged.push_back(s.time, SE3Manifold::to_pose(s.value.data()));
+			if (opt().covariances && s.var != initial) lagged_cov.push_back(tail_cov.front());
+			if (opt().covariances) tail_cov.pop_front();
+		}
 		CovarianceRequest request;
 		for (const auto& s : smoother().states())
 			if (s.var != initial)
@@ -196,6 +236,7 @@ std::vector<std::pair<double, mrpt::poses::CPose3D>> SlidingWindowEstimator::win
 	const auto& sm = impl_->graph.smoother();
 	std::vector<std::pair<double, mrpt::poses::CPose3D>> out;
 	if (sm.states().empty()) out.emplace_back(0.0, mrpt::poses::CPose3D());  // before the first step
+	for (const auto& s : sm.linear_states()) out.emplace_back(s.time, SE3Manifold::to_pose(s.value.data()));
 	for (const auto& s : sm.states()) out.emplace_back(s.time, impl_->graph.pose(s.var));
 	return out;
 }
@@ -207,7 +248,9 @@ mrpt::poses::CPose3D SlidingWindowEstimator::initial_pose() const
 {
 	if (impl_->initial_left) return *impl_->initial_left;
 	if (impl_->graph.poses().empty()) return mrpt::poses::CPose3D();  // before the first step: the origin
-	return impl_->graph.pose(impl_->graph.poses().front().var);
+	const VariableId initial = impl_->graph.poses().front().var;
+	if (const double* x = impl_->graph.smoother().linear_value(initial)) return SE3Manifold::to_pose(x);
+	return impl_->graph.pose(initial);
 }
 const eval::Trajectory& SlidingWindowEstimator::online_trajectory() const { return impl_->online; }
 const eval::Trajectory& SlidingWindowEstimator::lagged_trajectory() const { return impl_->lagged; }

@@ -38,6 +38,9 @@ void SlidingWindowOptions::validate() const
 {
 	if (window_size != 0 && window_size < 2)
 		throw std::invalid_argument("window size must be >= 2 (or 0 for unbounded), got " + std::to_string(window_size));
+	if (relinearized_poses != 0 && relinearized_poses < 2)
+		throw std::invalid_argument("re-linearised poses must be >= 2 (or 0 for the whole window), got " +
+									std::to_string(relinearized_poses));
 	if (!(gauge_prior_weight > 0)) throw std::invalid_argument("gauge prior weight must be > 0");
 	if (!(marginalization_threshold >= 0) || !(marginalization_threshold < 1))
 		throw std::invalid_argument("marginalisation threshold must be in [0, 1)");
@@ -51,6 +54,13 @@ void SlidingWindowOptions::validate() const
 	sensor.validate();
 	std::string why;
 	if (!solver.is_valid(&why)) throw std::invalid_argument("solver options: " + why);
+}
+
+int SlidingWindowOptions::relinearized_window() const
+{
+	if (window_size == 0 || relinearized_poses == 0 || policy != LandmarkPolicy::Slam || gauge == GaugeMode::Free)
+		return window_size;
+	return std::min(relinearized_poses, window_size);
 }
 
 double SlidingWindowOptions::gate_threshold(int dof) const { return chi2_quantile(gate_probability, dof); }
@@ -93,6 +103,15 @@ IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& 
 			 o.marginalization_threshold = d;
 		 },
 		 [](const O& o) { return format_double(o.marginalization_threshold); }},
+		{section, "relinearized_poses", "integer >= 2, or 0",
+		 "poses of the window re-linearised at every step (the newest); the older ones are smoothed as "
+		 "frozen linear conditionals (doc/window.md); 0 = the whole window",
+		 [](const S& v, O& o) {
+			 const int k = ini::parse_int_min(v, 0);
+			 if (k == 1) throw std::invalid_argument("'" + v + "' must be >= 2 or 0");
+			 o.relinearized_poses = k;
+		 },
+		 [](const O& o) { return std::to_string(o.relinearized_poses); }},
 		{section, "gate", "bool", "chi-square gate of the bearing-range readings (doc/outliers.md)",
 		 [](const S& v, O& o) { o.gate_readings = parse_bool(v); }, [](const O& o) { return format_bool(o.gate_readings); }},
 		number_key<O>(section, "gate_probability", "probability in (0, 1)",

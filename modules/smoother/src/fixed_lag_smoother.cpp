@@ -1,15 +1,20 @@
 #include <swba/smoother/fixed_lag_smoother.h>
 
 #include "dense_normal_system.h"
+#include "linear_tail.h"
 #include "prior_only_elimination.h"
 #include "prior_only_store.h"
 
 #include <swba/linear/marginal.h>
 
+#include <stdexcept>
+
 namespace swba::smoother
 {
 FixedLagSmoother::FixedLagSmoother(const FixedLagSmootherOptions& options)
-	: opt_(options), store_(std::make_unique<detail::PriorOnlyStore>())
+	: opt_(options),
+	  store_(std::make_unique<detail::PriorOnlyStore>()),
+	  tail_(std::make_unique<detail::LinearTail>())
 {
 }
 FixedLagSmoother::~FixedLagSmoother() = default;
@@ -64,6 +69,35 @@ void FixedLagSmoother::add_state(double time, VariableId var) { states_.push_bac
 
 bool FixedLagSmoother::over_lag() const { return opt_.lag > 0 && static_cast<int>(states_.size()) > opt_.lag; }
 
+std::vector<LinearState> FixedLagSmoother::linear_states() const
+{
+	std::vector<LinearState> out;
+	for (const auto& c : tail_->conditionals())
+	{
+		out.push_back({c.time, c.state, *tail_->value(c.state)});
+	}
+	return out;
+}
+
+const double* FixedLagSmoother::linear_value(VariableId v) const
+{
+	const std::vector<double>* x = tail_->value(v);
+	return x ? x->data() : nullptr;
+}
+
+bool FixedLagSmoother::linear_over_lag() const { return static_cast<int>(tail_->size()) > opt_.linear_lag; }
+
+LinearState FixedLagSmoother::pop_oldest_linear()
+{
+	if (tail_->empty()) throw std::logic_error("FixedLagSmoother::pop_oldest_linear: no smoothed state");
+	const auto& c = tail_->conditionals().front();
+	LinearState s{c.time, c.state, *tail_->value(c.state)};
+	tail_->pop_front();
+	return s;
+}
+
+void FixedLagSmoother::smooth_linear_states() { tail_->back_substitute(problem_); }
+
 void FixedLagSmoother::freeze(VariableId v)
 {
 	if (!opt_.first_estimate_jacobians) return;
@@ -92,8 +126,15 @@ int FixedLagSmoother::include_in_prior(VariableId v)
 void FixedLagSmoother::change_prior_variable(const VariableChange& change)
 {
 	activate(change.old_var);
+	const int old_index = prior_.index_of(change.old_var);
+	const std::vector<double> old_lin =
+		old_index >= 0 ? prior_.linearization_points()[static_cast<std::size_t>(old_index)] : std::vector<double>();
 	prior_.change_variable(problem_, change);
 	store_->change_active(change);
+	// The tail takes the prior's linearisation points of the change (its relation holds around them).
+	tail_->change_variable(change, old_lin, [&](VariableId y) {
+		return prior_.linearization_points()[static_cast<std::size_t>(prior_.index_of(y))];
+	});
 	if (opt_.first_estimate_jacobians) (*first_estimates_)[change.new_var] = change.first_estimate;
 	prior_.install(problem_);
 }
@@ -107,6 +148,7 @@ UpdateSummary FixedLagSmoother::update(const std::function<bool(VariableId)>& el
 		out.prior_only_eliminated = sync_store(eliminable);
 		out.solver = swba::solve(problem_, opt_.solver, covariance, &out.covariance);
 		store_->set_values(problem_, prior_);
+		smooth_linear_states();
 		return out;
 	}
 	detail::PriorOnlyElimination elimination;
@@ -118,6 +160,7 @@ UpdateSummary FixedLagSmoother::update(const std::function<bool(VariableId)>& el
 		out.prior_only_eliminated = elimination.num_eliminated();
 		elimination.end(problem_, prior_);
 	}
+	smooth_linear_states();
 	return out;
 }
 
@@ -155,6 +198,7 @@ MarginalizationSummary FixedLagSmoother::marginalize_oldest(const std::set<Varia
 	}
 	if (!store_->empty()) eliminate_from_store(keep, margv, sys.H, sys.b, num_keep, x_lin);
 	MarginalizationResult m = marginalize_leading(sys.H, sys.b, num_keep, opt_.marginalization_threshold);
+	if (opt_.linear_lag > 0) push_linear_state(keep, x_lin, margv, marg, sys.H, sys.b);
 	// Those factors and variables are replaced by the new prior.
 	if (prior_.installed() && factors.count(prior_.factor())) prior_.forget_factor();  // removed below
 	for (FactorId f : factors) problem_.remove_factor(f);
@@ -163,6 +207,20 @@ MarginalizationSummary FixedLagSmoother::marginalize_oldest(const std::set<Varia
 	// The new prior is stored around the first estimates of its variables (their current values without FEJ).
 	prior_.reset(problem_, std::move(keep), std::move(m), std::move(x_lin));
 	return {std::move(factors), sys.unevaluable};
+}
+
+void FixedLagSmoother::push_linear_state(const std::vector<VariableId>& keep,
+										 const std::vector<std::vector<double>>& keep_lin,
+										 const std::vector<VariableId>& margv, const std::set<VariableId>& marg,
+										 const Eigen::MatrixXd& H, const Eigen::VectorXd& b)
+{
+	detail::TailConditional c =
+		detail::make_tail_conditional(problem_, keep, keep_lin, margv, H, b, opt_.marginalization_threshold);
+	c.time = states_.front().time;
+	c.state = states_.front().var;
+	for (VariableId v : marg)
+		if (problem_.is_constant(v)) c.constants[v] = problem_.variable(v).value;
+	tail_->push(std::move(c));
 }
 
 void FixedLagSmoother::eliminate_from_store(const std::vector<VariableId>& keep, const std::vector<VariableId>& margv,

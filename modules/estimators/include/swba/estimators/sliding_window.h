@@ -84,6 +84,13 @@ struct SlidingWindowOptions
 {
 	/** Number of poses kept in the window (W ≥ 2); 0 = unbounded (no marginalisation). Default 10. */
 	int window_size = 10;
+	/** Poses of the window re-linearised at every step: the newest min(K, W). The older poses of the
+	 * window stay in the estimate, frozen at their linearisation, as the Gaussian conditional they left
+	 * the re-linearised part with, and are smoothed by back-substitution after each solve; a pose leaves
+	 * the lagged output at lag W either way (doc/window.md, "Re-linearised poses"). 0 = all W.
+	 * Applies to the SLAM policy with the fixed or prior gauge; the others re-linearise the whole window
+	 * (see relinearized_window()). Default 2: the new pose and the one before it. */
+	int relinearized_poses = 2;
 	/** Default InverseDepth. */
 	LandmarkParameterization landmarks = LandmarkParameterization::InverseDepth;
 	/** Default Slam (the more accurate one, see doc/window.md). */
@@ -150,6 +157,11 @@ struct SlidingWindowOptions
 	 * Default true. */
 	bool reassociate = true;
 
+	/** The poses re-linearised at every step: min(relinearized_poses, window_size) for the SLAM policy
+	 * with the fixed or prior gauge, else window_size (0: unbounded). The constant-time and map policies
+	 * marginalise the landmarks no window pose observes, so for them W is how long a landmark is kept;
+	 * the free gauge holds the whole window's gauge after each solve. */
+	int relinearized_window() const;
 	/** The χ² bound of the gate for readings of `dof` rows (reading_dof of the model). */
 	double gate_threshold(int dof) const;
 	/** The squared scale of the robust loss for readings of `dof` rows: χ²_dof(robust_probability). */

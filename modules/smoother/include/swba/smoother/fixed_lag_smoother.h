@@ -39,12 +39,20 @@ namespace swba::smoother
 namespace detail
 {
 class PriorOnlyStore;
+class LinearTail;
 }
 
 struct FixedLagSmootherOptions
 {
-	/** States kept in the window (≥ 2); 0 = unbounded (nothing is marginalised). Default 0. */
+	/** States kept in the window (≥ 2) and re-linearised at every update(); 0 = unbounded (nothing is
+	 * marginalised). Default 0. */
 	int lag = 0;
+	/** States kept after they leave the window, frozen at their linearisation: each as the Gaussian
+	 * conditional of the variables that left with it given the ones they were connected to, smoothed
+	 * by back-substitution after every update() (linear_states()). The smoothing lag is then
+	 * lag + linear_lag at the cost of a window of `lag` (doc/window.md, "Re-linearised poses").
+	 * 0 = none: a state leaves the smoother when it leaves the window. Default 0. */
+	int linear_lag = 0;
 	/** Evaluate every factor touching a variable in the prior at that variable's first estimate
 	 * (factors are wrapped in FirstEstimateFactor). Default true. */
 	bool first_estimate_jacobians = true;
@@ -69,6 +77,14 @@ struct TimedState
 {
 	double time = 0;
 	VariableId var = -1;
+};
+
+/** A state that left the window and is smoothed as a linear conditional, with its current estimate. */
+struct LinearState
+{
+	double time = 0;
+	VariableId var = -1;
+	std::vector<double> value;  ///< ambient value of `var` after the last back-substitution
 };
 
 /** What update() did. */
@@ -114,6 +130,20 @@ class FixedLagSmoother
 	const std::deque<TimedState>& states() const { return states_; }
 	/** True when lag > 0 and the window holds more states than the lag: marginalize_oldest() is due. */
 	bool over_lag() const;
+	/** The states that left the window and are still smoothed (linear_lag > 0), oldest first, at their
+	 * estimates after the last update() (or smooth_linear_states()). */
+	std::vector<LinearState> linear_states() const;
+	/** The current estimate of a variable that left the problem with a state still in linear_states()
+	 * (nullptr if none). */
+	const double* linear_value(VariableId v) const;
+	/** True when more states than linear_lag are smoothed: pop_oldest_linear() is due. */
+	bool linear_over_lag() const;
+	/** Removes the oldest smoothed state and returns it with its estimate (throws std::logic_error if
+	 * there is none). */
+	LinearState pop_oldest_linear();
+	/** Back-substitutes the smoothed states at the problem's current values (update() does it after its
+	 * solve; call it again after moving the values, e.g. a gauge hold). */
+	void smooth_linear_states();
 
 	/** Freezes v's first estimate at its current value (FEJ on, v not constant and not yet frozen). */
 	void freeze(VariableId v);
@@ -158,7 +188,8 @@ class FixedLagSmoother
 	/** Marginalises the oldest state together with `also` (variables leaving with it): the factors
 	 * touching them are linearised (the prior from its known information) at the first estimates,
 	 * the marginal over the variables they connect to replaces them as the new prior, and the
-	 * variables are removed. The new prior is stored around the first estimates of its variables. */
+	 * variables are removed. The new prior is stored around the first estimates of its variables. With
+	 * linear_lag > 0 the conditional of the removed variables given the kept ones joins linear_states(). */
 	MarginalizationSummary marginalize_oldest(const std::set<VariableId>& also);
 
    private:
@@ -168,10 +199,16 @@ class FixedLagSmoother
 	std::deque<TimedState> states_;
 	MarginalPrior prior_;
 	std::unique_ptr<detail::PriorOnlyStore> store_;
+	std::unique_ptr<detail::LinearTail> tail_;
 
 	/** store_prior_only: releases the stored variables that gained a factor and stores the active ones
 	 * the prior alone touches. */
 	int sync_store(const std::function<bool(VariableId)>& eliminable);
+	/** linear_lag > 0: the conditional of `margv` (the non-constant of `marg`, the trailing block of H, b)
+	 * given `keep` joins the tail. */
+	void push_linear_state(const std::vector<VariableId>& keep, const std::vector<std::vector<double>>& keep_lin,
+						   const std::vector<VariableId>& margv, const std::set<VariableId>& marg,
+						   const Eigen::MatrixXd& H, const Eigen::VectorXd& b);
 	/** store_prior_only: the store follows the elimination of `margv` in marginalize_oldest(). */
 	void eliminate_from_store(const std::vector<VariableId>& keep, const std::vector<VariableId>& margv,
 							  const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,

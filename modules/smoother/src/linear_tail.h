@@ -1,0 +1,91 @@
+/** \file linear_tail.h
+ * (private to the smoother module) The states a fixed-lag smoother no longer re-linearises but still
+ * smooths: each left the re-linearised window as the Gaussian conditional of its variables M given the
+ * variables they were connected to (its separator S), in the coordinates d = x ⊟ x_lin of the
+ * linearisation the marginalisation used (first estimates for S, the current values for M):
+ *     d_M = k − K d_S + η,   η ~ N(0, H_MM⁻¹).
+ * This is the same Schur complement that makes the marginal prior, read the other way round: the prior
+ * keeps p(S), the tail keeps p(M | S), and their product is the joint the window had. The MAP of the
+ * joint is the MAP of S (what the window's solve keeps computing) followed by d_M = k − K d_S, so
+ * back-substitution — newest conditional first, since a separator holds only variables still in the
+ * problem or that left it later — gives every tail state the estimate of a fixed-lag smoother whose
+ * factors beyond the re-linearised window are frozen at their linearisation (iSAM's square-root
+ * information smoother without relinearisation of the old part). Cost per step: one product of each
+ * conditional's K with its separator's offset, O(dim M · dim S).
+ * A change of variables in the prior (an inverse-depth landmark switched to world XYZ) rewrites the
+ * columns of every conditional that holds the old variable, as it rewrites the prior's. */
+#pragma once
+
+#include <swba/nonlinear/problem.h>
+#include <swba/smoother/marginal_prior.h>
+
+#include <Eigen/Core>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <vector>
+
+namespace swba::smoother::detail
+{
+/** One state's conditional. */
+struct TailConditional
+{
+	double time = 0;
+	VariableId state = -1;
+	/** The variables that left with the state (the state's own included unless it was constant), their
+	 * manifolds, linearisation points and current estimates; rows of k and K in this order. */
+	std::vector<VariableId> vars;
+	std::vector<std::shared_ptr<const Manifold>> manifolds;
+	std::vector<std::vector<double>> x_lin, value;
+	/** Constant variables that left with the state (a fixed gauge's first pose): their values. */
+	std::map<VariableId, std::vector<double>> constants;
+	/** The separator: variables, linearisation points and tangent sizes; columns of K in this order. */
+	std::vector<VariableId> sep;
+	std::vector<std::vector<double>> sep_lin;
+	std::vector<int> sep_dims;
+	Eigen::VectorXd k;
+	Eigen::MatrixXd K;
+	Eigen::MatrixXd covariance;  ///< H_MM⁻¹: of d_M given S
+};
+
+class LinearTail
+{
+   public:
+	bool empty() const { return conditionals_.empty(); }
+	std::size_t size() const { return conditionals_.size(); }
+	const std::deque<TailConditional>& conditionals() const { return conditionals_; }
+
+	/** Appends the conditional of the newest state to leave the re-linearised window. */
+	void push(TailConditional c);
+	/** Drops the oldest conditional (its variables' estimates with it). */
+	void pop_front();
+	/** The current estimate (ambient) of a variable of the tail (nullptr if none holds it). */
+	const std::vector<double>* value(VariableId v) const;
+	/** Back-substitution, newest first: each conditional's variables at k − K d_S, with d_S from the
+	 * problem's values, or the tail's for separator variables that left the problem since. Throws
+	 * std::logic_error if a separator variable is in neither (a caller removed it behind the tail's back). */
+	void back_substitute(const Problem& problem);
+	/** The change of variables `change` (see VariableChange; its relation holds around `old_lin`, old_var's
+	 * point, new_x_lin and `lin(y_i)`) in every conditional holding old_var: a conditional linearised
+	 * elsewhere first moves its old_var coordinates there (exact: old_var is Euclidean), and a pose y_i
+	 * not yet in its separator joins it. An empty `old_lin` means the conditionals' own points. */
+	void change_variable(const VariableChange& change, const std::vector<double>& old_lin,
+						 const std::function<std::vector<double>(VariableId)>& lin);
+
+   private:
+	/** The manifold of a variable of the tail (throws std::logic_error if none holds it). */
+	const Manifold* manifold_of(VariableId v) const;
+
+	std::deque<TailConditional> conditionals_;
+};
+
+/** The conditional of the trailing variables `marg` of (H, b) (over `keep` then `marg`, in δ = x ⊟ x_current
+ * at the values of `problem`) given `keep`, re-expressed around `keep_lin`: d_M = k − K d_S with
+ * K = H_MM⁻¹ H_MS and k = H_MM⁻¹ (b_M + H_MS s), s = x_current ⊟ keep_lin; H_MM through
+ * truncated_pseudo_inverse(·, threshold). */
+TailConditional make_tail_conditional(const Problem& problem, const std::vector<VariableId>& keep,
+									  const std::vector<std::vector<double>>& keep_lin,
+									  const std::vector<VariableId>& marg, const Eigen::MatrixXd& H,
+									  const Eigen::VectorXd& b, double threshold);
+}  // namespace swba::smoother::detail
