@@ -39,6 +39,28 @@ Chain make_chain(int n)
 	}
 	return c;
 }
+
+/** Options that converge each update() to rounding (the problems are linear). */
+FixedLagSmootherOptions tight_options(int lag, int linear_lag = 0)
+{
+	FixedLagSmootherOptions opt;
+	opt.lag = lag;
+	opt.linear_lag = linear_lag;
+	opt.solver.max_iterations = 50;
+	opt.solver.function_tolerance = opt.solver.gradient_tolerance = opt.solver.parameter_tolerance = 1e-14;
+	return opt;
+}
+
+/** Adds state j of the chain with its factors to `sm` (x: the states so far) and solves. */
+void add_chain_state(FixedLagSmoother& sm, const Chain& c, std::vector<VariableId>& x, int j)
+{
+	x.push_back(sm.problem().add_variable(c.guess[j], euclidean_manifold(2)));
+	sm.add_state(j, x.back());
+	if (j == 0) sm.add_factor(c.prior, {x[0]});
+	for (const auto& [ij, f] : c.factors)
+		if (ij.second == j) sm.add_factor(f, {x[ij.first], x[j]});
+	sm.update([](VariableId) { return false; });
+}
 }  // namespace
 
 TEST(FixedLagSmoother, LinearGaussianChainEqualsBatchAfterMarginalising)
@@ -61,21 +83,12 @@ TEST(FixedLagSmoother, LinearGaussianChainEqualsBatchAfterMarginalising)
 	const Eigen::MatrixXd cov_batch = full.H.inverse();
 
 	// The smoother: one state at a time, update(), marginalise the oldest while over the lag.
-	FixedLagSmootherOptions opt;
-	opt.lag = lag;
-	opt.solver.max_iterations = 50;
-	opt.solver.function_tolerance = opt.solver.gradient_tolerance = opt.solver.parameter_tolerance = 1e-14;
-	FixedLagSmoother sm(opt);
+	FixedLagSmoother sm(tight_options(lag));
 	std::vector<VariableId> x;
 	int marginalised = 0;
 	for (int j = 0; j < n; j++)
 	{
-		x.push_back(sm.problem().add_variable(c.guess[j], euclidean_manifold(2)));
-		sm.add_state(j, x.back());
-		if (j == 0) sm.add_factor(c.prior, {x[0]});
-		for (const auto& [ij, f] : c.factors)
-			if (ij.second == j) sm.add_factor(f, {x[ij.first], x[j]});
-		sm.update([](VariableId) { return false; });
+		add_chain_state(sm, c, x, j);
 		while (sm.over_lag())
 		{
 			sm.marginalize_oldest({});
@@ -111,22 +124,13 @@ TEST(FixedLagSmoother, LinearTailStatesAreTheBatchEstimatesOfTheHistorySoFar)
 {
 	const int n = 12, lag = 2, linear_lag = 4;
 	const Chain c = make_chain(n);
-	FixedLagSmootherOptions opt;
-	opt.lag = lag;
-	opt.linear_lag = linear_lag;
-	opt.solver.max_iterations = 50;
-	opt.solver.function_tolerance = opt.solver.gradient_tolerance = opt.solver.parameter_tolerance = 1e-14;
+	const FixedLagSmootherOptions opt = tight_options(lag, linear_lag);
 	FixedLagSmoother sm(opt);
 	std::vector<VariableId> x;
 	int left = 0;
 	for (int j = 0; j < n; j++)
 	{
-		x.push_back(sm.problem().add_variable(c.guess[j], euclidean_manifold(2)));
-		sm.add_state(j, x.back());
-		if (j == 0) sm.add_factor(c.prior, {x[0]});
-		for (const auto& [ij, f] : c.factors)
-			if (ij.second == j) sm.add_factor(f, {x[ij.first], x[j]});
-		sm.update([](VariableId) { return false; });
+		add_chain_state(sm, c, x, j);
 
 		// The batch of states 0 … j.
 		Problem batch;
@@ -212,12 +216,8 @@ TEST_P(LinearTailChange, FollowsAChangeOfVariablesOfThePrior)
 {
 	const LandmarkRun run;
 	const int change_at = 7;
-	FixedLagSmootherOptions opt;
+	FixedLagSmootherOptions opt = tight_options(2, 4);
 	opt.first_estimate_jacobians = GetParam();
-	opt.lag = 2;
-	opt.linear_lag = 4;
-	opt.solver.max_iterations = 50;
-	opt.solver.function_tolerance = opt.solver.gradient_tolerance = opt.solver.parameter_tolerance = 1e-14;
 	FixedLagSmoother ref(opt), changed(opt);
 	std::vector<VariableId> xr, xc;
 	const Eigen::Vector3d l0(2.5, 0.0, 1.0);
