@@ -253,7 +253,8 @@ class SlidingWindowEstimator
 
 	/** The newest pose's current estimate. */
 	mrpt::poses::CPose3D current_pose() const;
-	/** Poses in the window, oldest first: (time, pose). */
+	/** Poses in the window, oldest first: (time, pose); those of the linear tail (beyond the re-linearised
+	 * poses) at their smoothed estimates. */
 	std::vector<std::pair<double, mrpt::poses::CPose3D>> window_poses() const;
 	/** Current landmark estimates (world XYZ) by landmark ID. */
 	std::map<std::int32_t, Eigen::Vector3d> landmarks() const;
@@ -267,8 +268,10 @@ class SlidingWindowEstimator
 	/** Each pose as estimated when it left the window (complete after finish()). */
 	const eval::Trajectory& lagged_trajectory() const;
 	/** The marginal covariance of each pose of online_trajectory() / lagged_trajectory() (same order) as
-	 * the window had it at that moment: right after the step's solve / when the pose left (the window
-	 * poses flushed by finish(): at the final state). Empty with options().covariances off. */
+	 * the window had it at that moment: right after the step's solve / when the pose left the
+	 * re-linearised poses (all W with relinearized_poses = 0; with fewer, an upper bound of its covariance
+	 * at lag W, see doc/window.md; the re-linearised poses flushed by finish(): at the final state). Empty
+	 * with options().covariances off. */
 	const std::vector<PoseCovariance>& online_covariances() const;
 	const std::vector<PoseCovariance>& lagged_covariances() const;
 	/** The landmarks in the state with their marginal covariance at the current estimate (one
