@@ -3,6 +3,7 @@
 #include <swba/linear/marginal.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <stdexcept>
 
@@ -23,6 +24,16 @@ Eigen::MatrixXd spd_inverse(const Eigen::MatrixXd& A, double threshold)
 	return truncated_pseudo_inverse(A, threshold);
 }
 
+/** F with F Fᵀ = S for a symmetric positive semi-definite S: its Cholesky factor when S is positive
+ * definite, else V √D⁺ from its eigendecomposition (negative rounding clamped to zero). */
+Eigen::MatrixXd psd_factor(const Eigen::MatrixXd& S)
+{
+	Eigen::LLT<Eigen::MatrixXd> llt(S);
+	if (llt.info() == Eigen::Success) return llt.matrixL();
+	Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(S);
+	return es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+}
+
 Eigen::MatrixXd gather_rows(const Eigen::MatrixXd& M, const std::vector<int>& rows)
 {
 	Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()), M.cols());
@@ -30,11 +41,16 @@ Eigen::MatrixXd gather_rows(const Eigen::MatrixXd& M, const std::vector<int>& ro
 	return out;
 }
 
-/** Columns `cols` of the first `n` rows of M. */
-Eigen::MatrixXd gather_columns(const Eigen::MatrixXd& M, Eigen::Index n, const std::vector<int>& cols)
+/** Columns `cols` of the first `n` rows of the symmetric matrix whose lower triangle is stored in L. */
+Eigen::MatrixXd gather_symmetric_columns(const Eigen::MatrixXd& L, Eigen::Index n, const std::vector<int>& cols)
 {
 	Eigen::MatrixXd out(n, static_cast<Eigen::Index>(cols.size()));
-	for (std::size_t j = 0; j < cols.size(); j++) out.col(static_cast<Eigen::Index>(j)) = M.col(cols[j]).head(n);
+	for (std::size_t j = 0; j < cols.size(); j++)
+	{
+		const Eigen::Index c = cols[j];
+		out.col(static_cast<Eigen::Index>(j)).head(c) = L.row(c).head(c).transpose();
+		out.col(static_cast<Eigen::Index>(j)).tail(n - c) = L.col(c).segment(c, n - c);
+	}
 	return out;
 }
 
@@ -98,6 +114,7 @@ int PriorOnlyStore::allocate(int dim)
 		k_.tail(n - cap).setZero();
 		for (auto& [w, K] : K_) grow(K, n, K.cols());
 		grow(C_, n, n);
+		grow(P_, n, kMaxPending);
 	}
 	return off;
 }
@@ -109,7 +126,44 @@ void PriorOnlyStore::free_rows(const Member& m)
 	for (auto& [w, K] : K_) K.middleRows(m.offset, m.dim).setZero();
 	C_.middleRows(m.offset, m.dim).leftCols(n).setZero();
 	C_.middleCols(m.offset, m.dim).topRows(n).setZero();
+	P_.middleRows(m.offset, m.dim).setZero();
 	free_.push_back({m.offset, m.dim});
+}
+
+void PriorOnlyStore::add_update(const Eigen::MatrixXd& U, double sign)
+{
+	const Eigen::Index n = U.rows(), r = U.cols();
+	if (pending_ + r > kMaxPending) flush_updates();
+	if (r > kMaxPending)
+	{
+		C_.topLeftCorner(n, n).selfadjointView<Eigen::Lower>().rankUpdate(U, sign);
+		return;
+	}
+	P_.middleCols(pending_, r).topRows(n) = U;
+	P_.middleCols(pending_, r).bottomRows(P_.rows() - n).setZero();
+	sign_.segment(pending_, r).setConstant(sign);
+	pending_ += static_cast<int>(r);
+}
+
+void PriorOnlyStore::flush_updates()
+{
+	if (pending_ == 0) return;
+	const Eigen::Index n = used_;
+	const auto P = P_.topLeftCorner(n, pending_);
+	C_.topLeftCorner(n, n).triangularView<Eigen::Lower>() += (P * sign_.head(pending_).asDiagonal()) * P.transpose();
+	pending_ = 0;
+}
+
+Eigen::MatrixXd PriorOnlyStore::covariance_columns(const std::vector<int>& cols) const
+{
+	const Eigen::Index n = used_;
+	Eigen::MatrixXd out = gather_symmetric_columns(C_, n, cols);
+	if (pending_ > 0)
+	{
+		const auto P = P_.topLeftCorner(n, pending_);
+		out.noalias() += (P * sign_.head(pending_).asDiagonal()) * gather_rows(P_, cols).leftCols(pending_).transpose();
+	}
+	return out;
 }
 
 void PriorOnlyStore::compact_if_sparse()
@@ -117,6 +171,7 @@ void PriorOnlyStore::compact_if_sparse()
 	int free_dim = 0;
 	for (const auto& f : free_) free_dim += f.second;
 	if (free_dim == 0 || 2 * free_dim < used_) return;
+	flush_updates();
 	std::vector<int> rows;
 	for (auto& m : members_)
 	{
@@ -130,7 +185,11 @@ void PriorOnlyStore::compact_if_sparse()
 	for (Eigen::Index i = 0; i < n; i++)
 	{
 		k[i] = k_[rows[static_cast<std::size_t>(i)]];
-		for (Eigen::Index j = 0; j < n; j++) C(i, j) = C_(rows[static_cast<std::size_t>(i)], rows[static_cast<std::size_t>(j)]);
+		for (Eigen::Index j = 0; j <= i; j++)
+		{
+			const auto [a, b] = std::minmax(rows[static_cast<std::size_t>(i)], rows[static_cast<std::size_t>(j)]);
+			C(i, j) = C_(b, a);
+		}
 	}
 	for (auto& [w, K] : K_)
 	{
@@ -140,6 +199,7 @@ void PriorOnlyStore::compact_if_sparse()
 	}
 	k_ = std::move(k);
 	C_ = std::move(C);
+	P_ = Eigen::MatrixXd::Zero(cap, kMaxPending);
 	used_ = static_cast<int>(n);
 	free_.clear();
 }
@@ -213,9 +273,9 @@ void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::v
 		}
 	}
 	const Eigen::MatrixXd KC = K_pl * C_ll;
-	C_.topLeftCorner(n, n).noalias() += KC * K_pl.transpose();
-	// l's rows: k_l, the cross-covariance −K_pl C_ll with every stored row, then (after all of those
-	// column writes) C_ll among the joining variables.
+	add_update(K_pl * psd_factor(C_ll), 1.0);
+	// l's rows: k_l, the cross-covariance −K_pl C_ll with every stored row (its row and its column, so
+	// the lower triangle holds it whatever the slot), then C_ll among the joining variables.
 	for (Eigen::Index i = 0, r0 = 0; i < static_cast<Eigen::Index>(joining.size()); r0 += joining[i].dim, i++)
 	{
 		const Member& m = joining[static_cast<std::size_t>(i)];
@@ -242,7 +302,7 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 	if (vars.empty()) return;
 	const std::vector<int> lrows = rows_of(vars);
 	const Eigen::Index n = used_, nl = static_cast<Eigen::Index>(lrows.size());
-	const Eigen::MatrixXd C_pl = gather_columns(C_, n, lrows);  // all stored rows, l's own included
+	const Eigen::MatrixXd C_pl = covariance_columns(lrows);  // all stored rows, l's own included
 	const Eigen::MatrixXd C_ll = gather_rows(C_pl, lrows);
 	const Eigen::LLT<Eigen::MatrixXd> llt(C_ll);
 	if (llt.info() != Eigen::Success)
@@ -291,8 +351,10 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 	}
 
 	// The others conditioned on l as well (their mean at l's mean is unchanged): G = C_pl C_ll⁻¹,
-	// k_p −= G k_l, K_p −= G K_l, K_pl = −G, C_pp −= G C_lp (l's own rows, garbage, are freed below).
-	const Eigen::MatrixXd G = llt.solve(C_pl.transpose()).transpose();
+	// k_p −= G k_l, K_p −= G K_l, K_pl = −G, C_pp −= G C_lp = W Wᵀ with W = C_pl L⁻ᵀ (l's own rows,
+	// garbage, are freed below).
+	const Eigen::MatrixXd Wt = llt.matrixL().solve(C_pl.transpose());
+	const Eigen::MatrixXd G = llt.matrixU().solve(Wt).transpose();
 	k_.head(n).noalias() -= G * k_l;
 	for (auto& [w, K] : K_)
 	{
@@ -310,7 +372,7 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 			c0 += d;
 		}
 	}
-	C_.topLeftCorner(n, n).noalias() -= G * C_pl.transpose();
+	add_update(Wt.transpose(), -1.0);
 	for (VariableId v : vars)
 	{
 		auto it = std::find_if(members_.begin(), members_.end(), [v](const Member& m) { return m.var == v; });
@@ -349,8 +411,7 @@ void PriorOnlyStore::eliminate(const std::vector<VariableId>& marg, const std::v
 		if (it == K_.end()) it = K_.emplace(keep[i], Eigen::MatrixXd::Zero(k_.size(), keep_dims[i])).first;
 		it->second.topRows(n).noalias() -= K_pm * K_m.middleCols(static_cast<Eigen::Index>(off), keep_dims[i]);
 	}
-	const Eigen::MatrixXd KC = K_pm * C_m;
-	C_.topLeftCorner(n, n).noalias() += KC * K_pm.transpose();
+	add_update(K_pm * psd_factor(C_m), 1.0);
 }
 
 void PriorOnlyStore::shift_active(VariableId v, const Eigen::VectorXd& t)

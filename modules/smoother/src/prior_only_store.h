@@ -89,6 +89,17 @@ class PriorOnlyStore
 	void free_rows(const Member& m);
 	/** Rewrites the storage without free slots once they are half of it. */
 	void compact_if_sparse();
+	/** C += sign · U Uᵀ (U: the used rows), deferred: U joins the pending factors. */
+	void add_update(const Eigen::MatrixXd& U, double sign);
+	/** Applies the pending factors to C_'s lower triangle in one product. */
+	void flush_updates();
+	/** Columns `cols` of C (pending updates included), over the used rows. */
+	Eigen::MatrixXd covariance_columns(const std::vector<int>& cols) const;
+
+	/** Columns of pending factors kept before one flush. A rank-3 or rank-6 update streams all of C
+	 * through memory for little arithmetic; one product of rank ~24 does the same work about twice as
+	 * fast, and larger batches gain little more while each flush (one step's latency) grows with it. */
+	static constexpr int kMaxPending = 24;
 
 	// Rows [0, used_) of k, K and C are members' rows or free slots (zero); storage may be larger, so
 	// that a landmark joining or leaving costs no copy of C (updates are in place, O(used²) per rank).
@@ -97,6 +108,13 @@ class PriorOnlyStore
 	int used_ = 0;
 	Eigen::VectorXd k_;
 	std::map<VariableId, Eigen::MatrixXd> K_;  ///< by active variable: storage rows, its tangent columns
-	Eigen::MatrixXd C_;                         ///< symmetric over the storage rows
+	/** C = tril(C_) + P_ diag(sign_) P_ᵀ over the first pending_ columns of P_: C_ is symmetric over the
+	 * storage rows with only its lower triangle kept (the covariance updates are symmetric rank updates
+	 * of one triangle, half the work of general products), and the updates since the last flush wait
+	 * as factors. P_'s rows of free slots and of storage beyond used_ are zero. */
+	Eigen::MatrixXd C_;
+	Eigen::MatrixXd P_;
+	Eigen::VectorXd sign_ = Eigen::VectorXd::Zero(kMaxPending);
+	int pending_ = 0;
 };
 }  // namespace swba::smoother::detail
