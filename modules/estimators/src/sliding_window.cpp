@@ -181,7 +181,7 @@ struct SlidingWindowEstimator::Impl
 			while (smoother().linear_over_lag()) emit_oldest_linear();
 			sum.marginalization_seconds = seconds_since(tm);
 		}
-		sum.window_poses = static_cast<int>(smoother().states().size() + smoother().linear_states().size());
+		sum.window_poses = static_cast<int>(smoother().states().size() + smoother().num_linear_states());
 		sum.landmarks = static_cast<int>(graph.landmarks().size());
 		sum.prior_rank = smoother().prior().rank();
 		sum.prior_variables = static_cast<int>(smoother().prior().variables().size());

@@ -69,6 +69,8 @@ void FixedLagSmoother::add_state(double time, VariableId var) { states_.push_bac
 
 bool FixedLagSmoother::over_lag() const { return opt_.lag > 0 && static_cast<int>(states_.size()) > opt_.lag; }
 
+std::size_t FixedLagSmoother::num_linear_states() const { return tail_->size(); }
+
 std::vector<LinearState> FixedLagSmoother::linear_states() const
 {
 	std::vector<LinearState> out;
@@ -196,9 +198,15 @@ MarginalizationSummary FixedLagSmoother::marginalize_oldest(const std::set<Varia
 		const double* x = linearization_point(v);
 		x_lin.emplace_back(x, x + problem_.variable(v).manifold->ambient_size());
 	}
-	if (!store_->empty()) eliminate_from_store(keep, margv, sys.H, sys.b, num_keep, x_lin);
+	// The store and the tail both need the conditional of the marginalised variables given the kept.
+	if (!store_->empty() || opt_.linear_lag > 0)
+	{
+		detail::TailConditional c =
+			detail::make_tail_conditional(problem_, keep, x_lin, margv, sys.H, sys.b, opt_.marginalization_threshold);
+		if (!store_->empty()) eliminate_from_store(c);
+		if (opt_.linear_lag > 0) push_linear_state(std::move(c), marg);
+	}
 	MarginalizationResult m = marginalize_leading(sys.H, sys.b, num_keep, opt_.marginalization_threshold);
-	if (opt_.linear_lag > 0) push_linear_state(keep, x_lin, margv, marg, sys.H, sys.b);
 	// Those factors and variables are replaced by the new prior.
 	if (prior_.installed() && factors.count(prior_.factor())) prior_.forget_factor();  // removed below
 	for (FactorId f : factors) problem_.remove_factor(f);
@@ -209,13 +217,8 @@ MarginalizationSummary FixedLagSmoother::marginalize_oldest(const std::set<Varia
 	return {std::move(factors), sys.unevaluable};
 }
 
-void FixedLagSmoother::push_linear_state(const std::vector<VariableId>& keep,
-										 const std::vector<std::vector<double>>& keep_lin,
-										 const std::vector<VariableId>& margv, const std::set<VariableId>& marg,
-										 const Eigen::MatrixXd& H, const Eigen::VectorXd& b)
+void FixedLagSmoother::push_linear_state(detail::TailConditional c, const std::set<VariableId>& marg)
 {
-	detail::TailConditional c =
-		detail::make_tail_conditional(problem_, keep, keep_lin, margv, H, b, opt_.marginalization_threshold);
 	c.time = states_.front().time;
 	c.state = states_.front().var;
 	for (VariableId v : marg)
@@ -223,54 +226,35 @@ void FixedLagSmoother::push_linear_state(const std::vector<VariableId>& keep,
 	tail_->push(std::move(c));
 }
 
-void FixedLagSmoother::eliminate_from_store(const std::vector<VariableId>& keep, const std::vector<VariableId>& margv,
-											const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,
-											const std::vector<std::vector<double>>& keep_lin)
+void FixedLagSmoother::eliminate_from_store(const detail::TailConditional& c)
 {
-	// (H, b) is in δ = x ⊟ x_current; the store in d = x ⊟ x_lin. The marginalised variables' conditional
-	// δ_m = H_mm⁻¹ (b_m − H_mk δ_k) becomes d_m = s_m + H_mm⁻¹ (b_m + H_mk s_k) − H_mm⁻¹ H_mk d_k with
-	// s = x_current ⊟ x_lin (the new prior's x_lin for the kept variables, the old prior's for the others).
-	const int nm = static_cast<int>(H.rows()) - num_keep;
-	const Eigen::MatrixXd Hmm_inv =
-		truncated_pseudo_inverse(H.bottomRightCorner(nm, nm), opt_.marginalization_threshold);
-	const auto shift = [&](VariableId v, const double* x_lin) {
-		const auto& var = problem_.variable(v);
-		Eigen::VectorXd s(var.manifold->tangent_size());
-		var.manifold->minus(var.value.data(), x_lin, s.data());
-		return s;
-	};
-	Eigen::VectorXd s_k(num_keep), s_m(nm);
-	std::vector<int> keep_dims, marg_dims;
-	for (std::size_t i = 0, off = 0; i < keep.size(); i++)
+	// c is d_M = k − K d_S in the coordinates of its own linearisation (the current values of M, the new
+	// prior's x_lin for S); the store keeps M in the old prior's (or M's first estimates): d_M shifts by
+	// s_M = x_current ⊟ x_lin_store. A kept variable whose linearisation point moves (no FEJ) shifts the
+	// store's coordinates of S.
+	for (std::size_t i = 0; i < c.sep.size(); i++)
 	{
-		const Eigen::VectorXd s = shift(keep[i], keep_lin[i].data());
-		s_k.segment(static_cast<Eigen::Index>(off), s.size()) = s;
-		keep_dims.push_back(static_cast<int>(s.size()));
-		off += static_cast<std::size_t>(s.size());
-		// A kept variable whose linearisation point moves (no FEJ) shifts the store's coordinates.
-		const int idx = prior_.index_of(keep[i]);
-		if (idx >= 0)
-		{
-			const auto& var = problem_.variable(keep[i]);
-			Eigen::VectorXd t(var.manifold->tangent_size());
-			var.manifold->minus(keep_lin[i].data(), prior_.linearization_points()[static_cast<std::size_t>(idx)].data(),
-								t.data());
-			store_->shift_active(keep[i], t);
-		}
+		const int idx = prior_.index_of(c.sep[i]);
+		if (idx < 0) continue;
+		Eigen::VectorXd t(c.sep_dims[i]);
+		problem_.variable(c.sep[i]).manifold->minus(
+			c.sep_lin[i].data(), prior_.linearization_points()[static_cast<std::size_t>(idx)].data(), t.data());
+		store_->shift_active(c.sep[i], t);
 	}
-	for (std::size_t i = 0, off = 0; i < margv.size(); i++)
+	Eigen::VectorXd k_m = c.k;
+	std::vector<int> marg_dims;
+	for (std::size_t i = 0, off = 0; i < c.vars.size(); i++)
 	{
-		const int idx = prior_.index_of(margv[i]);
+		const int idx = prior_.index_of(c.vars[i]);
 		const double* lin = idx >= 0 ? prior_.linearization_points()[static_cast<std::size_t>(idx)].data()
-									 : linearization_point(margv[i]);
-		const Eigen::VectorXd s = shift(margv[i], lin);
-		s_m.segment(static_cast<Eigen::Index>(off), s.size()) = s;
-		marg_dims.push_back(static_cast<int>(s.size()));
-		off += static_cast<std::size_t>(s.size());
+									 : linearization_point(c.vars[i]);
+		const int n = c.manifolds[i]->tangent_size();
+		Eigen::VectorXd s(n);
+		c.manifolds[i]->minus(c.x_lin[i].data(), lin, s.data());
+		k_m.segment(static_cast<Eigen::Index>(off), n) += s;
+		marg_dims.push_back(n);
+		off += static_cast<std::size_t>(n);
 	}
-	const Eigen::MatrixXd H_mk = H.bottomLeftCorner(nm, num_keep);
-	const Eigen::MatrixXd K_m = Hmm_inv * H_mk;
-	const Eigen::VectorXd k_m = s_m + Hmm_inv * (b.tail(nm) + H_mk * s_k);
-	store_->eliminate(margv, marg_dims, keep, keep_dims, k_m, K_m, Hmm_inv);
+	store_->eliminate(c.vars, marg_dims, c.sep, c.sep_dims, k_m, c.K, c.covariance);
 }
 }  // namespace swba::smoother

@@ -40,6 +40,7 @@ namespace detail
 {
 class PriorOnlyStore;
 class LinearTail;
+struct TailConditional;
 }
 
 struct FixedLagSmootherOptions
@@ -133,6 +134,8 @@ class FixedLagSmoother
 	/** The states that left the window and are still smoothed (linear_lag > 0), oldest first, at their
 	 * estimates after the last update() (or smooth_linear_states()). */
 	std::vector<LinearState> linear_states() const;
+	/** The number of linear_states() (without copying them). */
+	std::size_t num_linear_states() const;
 	/** The current estimate of a variable that left the problem with a state still in linear_states()
 	 * (nullptr if none). */
 	const double* linear_value(VariableId v) const;
@@ -204,14 +207,11 @@ class FixedLagSmoother
 	/** store_prior_only: releases the stored variables that gained a factor and stores the active ones
 	 * the prior alone touches. */
 	int sync_store(const std::function<bool(VariableId)>& eliminable);
-	/** linear_lag > 0: the conditional of `margv` (the non-constant of `marg`, the trailing block of H, b)
-	 * given `keep` joins the tail. */
-	void push_linear_state(const std::vector<VariableId>& keep, const std::vector<std::vector<double>>& keep_lin,
-						   const std::vector<VariableId>& margv, const std::set<VariableId>& marg,
-						   const Eigen::MatrixXd& H, const Eigen::VectorXd& b);
-	/** store_prior_only: the store follows the elimination of `margv` in marginalize_oldest(). */
-	void eliminate_from_store(const std::vector<VariableId>& keep, const std::vector<VariableId>& margv,
-							  const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,
-							  const std::vector<std::vector<double>>& keep_lin);
+	/** linear_lag > 0: the conditional `c` of the non-constant of `marg` given the kept variables joins
+	 * the tail (with the values of the constant ones). */
+	void push_linear_state(detail::TailConditional c, const std::set<VariableId>& marg);
+	/** store_prior_only: the store follows the elimination of c's variables (the conditional of the
+	 * marginalised variables given the kept ones) in marginalize_oldest(). */
+	void eliminate_from_store(const detail::TailConditional& c);
 };
 }  // namespace swba::smoother
