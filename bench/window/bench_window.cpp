@@ -9,6 +9,9 @@
 // A cost table gives, per estimator, the mean, median and 99th percentile of ms/step, its peak resident
 // set size and its minor page faults per step (heap churn): the peak is reset before each estimator
 // (Linux: /proc/self/clear_refs) and read after it (VmHWM), so each row's figure is its own.
+// A growth table runs the SLAM window on the large rawlog --growth-runs times in all and gives per tenth of
+// the run the fastest run's mean ms/step and its last / first tenth (one run's tenths moved by up to ±30 %
+// on a shared machine), beside every run's own last / first.
 // A benchmark, not a test: timings vary ±25 % between runs on shared machines; compare within a run.
 #include <swba/apps/run.h>
 #include <swba/apps/simulate.h>
@@ -28,6 +31,7 @@
 #include <map>
 #include <numeric>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -174,22 +178,61 @@ std::string timing_table(const RunReport& rep)
 	return s.str();
 }
 
-/** The per-step cost along the run: mean ms/step over each tenth of the steps, one row per estimator. */
-std::string per_tenth_table(const RunReport& rep)
+/** Mean ms/step over the tenth t (0..9) of the steps. */
+double tenth_mean(const std::vector<double>& step_ms, std::size_t t)
+{
+	const std::size_t n = step_ms.size();
+	return mean_of(step_ms, t * n / 10, (t + 1) * n / 10);
+}
+
+/** The header of a table with one column per tenth of the run and a last / first column. */
+std::string tenth_header(const std::string& extra = "")
 {
 	std::ostringstream s;
 	s << "| estimator | W |";
 	for (int t = 1; t <= 10; t++) s << " " << t << "/10 |";
-	s << "\n|---|---:|";
+	s << " last / first |" << extra << "\n|---|---:|";
 	for (int t = 1; t <= 10; t++) s << "---:|";
-	s << "\n";
+	s << "---:|" << (extra.empty() ? "" : "---|") << "\n";
+	return s.str();
+}
+
+/** The per-step cost along the run: mean ms/step over each tenth of the steps, one row per estimator. */
+std::string per_tenth_table(const RunReport& rep)
+{
+	std::ostringstream s;
+	s << tenth_header();
 	for (const auto& r : rep.rows)
 	{
 		if (r.trajectory == "lagged" || r.step_ms.empty()) continue;
 		s << "| " << row_name(r) << " | " << window_cell(r) << " |";
-		const std::size_t n = r.step_ms.size();
-		for (std::size_t t = 0; t < 10; t++) s << " " << fmt("%.2f", mean_of(r.step_ms, t * n / 10, (t + 1) * n / 10)) << " |";
-		s << "\n";
+		for (std::size_t t = 0; t < 10; t++) s << " " << fmt("%.2f", tenth_mean(r.step_ms, t)) << " |";
+		s << " " << fmt("%.2f", tenth_mean(r.step_ms, 9) / tenth_mean(r.step_ms, 0)) << " |\n";
+	}
+	return s.str();
+}
+
+/** The SLAM-policy window's growth along the run over several runs: `runs` holds each run's step times by
+ * row label (the main tables' run first). Per tenth the fastest run's mean (the least disturbed by other
+ * load on a shared machine), its last / first, and every run's own last / first. */
+std::string growth_table(const std::vector<std::pair<const RunRow*, std::vector<std::vector<double>>>>& runs)
+{
+	std::ostringstream s;
+	s << tenth_header(" each run's last / first |");
+	for (const auto& [row, step_ms] : runs)
+	{
+		double tenth[10];
+		for (std::size_t t = 0; t < 10; t++)
+		{
+			tenth[t] = tenth_mean(step_ms.front(), t);
+			for (const auto& v : step_ms) tenth[t] = std::min(tenth[t], tenth_mean(v, t));
+		}
+		s << "| " << row_name(*row) << " | " << window_cell(*row) << " |";
+		for (double m : tenth) s << " " << fmt("%.2f", m) << " |";
+		s << " " << fmt("%.2f", tenth[9] / tenth[0]) << " |";
+		for (std::size_t i = 0; i < step_ms.size(); i++)
+			s << (i ? ", " : " ") << fmt("%.2f", tenth_mean(step_ms[i], 9) / tenth_mean(step_ms[i], 0));
+		s << " |\n";
 	}
 	return s.str();
 }
@@ -317,6 +360,11 @@ struct BenchCommandLine
 		false, "", "INI"};
 	TCLAP::SwitchArg covariance_off{"", "covariance-off",
 									"also run each window with covariance recovery off, and compare (same run)"};
+	TCLAP::ValueArg<int> growth_runs{
+		"", "growth-runs",
+		"runs of the SLAM-policy window on the large rawlog for the growth table (per tenth of the run the "
+		"fastest run's mean ms/step; the first run is the main tables'; 1 = no table). (Default: 3)",
+		false, 3, "N"};
 	TCLAP::SwitchArg keep_prior_only{
 		"", "keep-prior-only-landmarks",
 		"solve with every landmark of the prior in the LM problem (SlidingWindowOptions::eliminate_prior_only_landmarks "
@@ -326,7 +374,7 @@ struct BenchCommandLine
 	{
 		// TCLAP lists options in reverse order of addition.
 		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{
-				 &covariance_off, &keep_prior_only, &config, &markdown, &no_ekf, &no_large, &no_small, &slam_large_steps,
+				 &growth_runs, &covariance_off, &keep_prior_only, &config, &markdown, &no_ekf, &no_large, &no_small, &slam_large_steps,
 				 &ekf_large_steps, &large_steps, &ekf_method, &policy, &windows, &rawlog_dir, &large, &small})
 			cmd.add(*a);
 	}
@@ -465,11 +513,42 @@ RunReport run_rawlog(const RunOptions& base, const std::string& rawlog, const St
 	return rep;
 }
 
-/** Runs one rawlog, prints its tables to stdout and returns them (for --markdown). */
-std::string bench_rawlog(const RunOptions& base, const std::string& rawlog, const StepLimits& limits,
-						 const std::string& title, bool compare_covariance)
+/** The SLAM-policy window of `base` on `rawlog` run `runs` − 1 more times, its online rows' step times
+ * beside those of `rep` (the first run), as a growth table. Empty when there is no such row or runs < 2. */
+std::string growth_section(const RunOptions& base, const std::string& rawlog, const StepLimits& limits, int runs,
+						const RunReport& rep)
 {
-	const std::string t = tables(run_rawlog(base, rawlog, limits, compare_covariance), title);
+	std::vector<std::pair<const RunRow*, std::vector<std::vector<double>>>> rows;
+	for (const auto& r : rep.rows)
+		if (r.name == "window" && r.policy == "slam" && r.trajectory == "online" && !r.step_ms.empty() && !r.failed)
+			rows.push_back({&r, {r.step_ms}});
+	if (rows.empty() || runs < 2) return "";
+	const BenchInput in = read_input(rawlog, limits.read);
+	RunOptions w = base;
+	w.run_ekf = false;
+	w.policies = {swba::estimators::LandmarkPolicy::Slam};
+	for (int i = 1; i < runs; i++)
+	{
+		RunReport again;
+		run_part(w, in, limits.slam_window, again);
+		for (auto& [row, step_ms] : rows)
+			for (const auto& r : again.rows)
+				if (r.label == row->label && r.trajectory == "online") step_ms.push_back(r.step_ms);
+	}
+	std::ostringstream s;
+	s << "Growth of the SLAM window's cost along the run over " << runs
+	  << " runs (mean ms/step per tenth of the steps, the fastest run's):\n\n"
+	  << growth_table(rows) << "\n";
+	return s.str();
+}
+
+/** Runs one rawlog, prints its tables to stdout and returns them (for --markdown); with `growth` > 1 the
+ * growth table of the SLAM window over that many runs. */
+std::string bench_rawlog(const RunOptions& base, const std::string& rawlog, const StepLimits& limits,
+						 const std::string& title, bool compare_covariance, int growth = 1)
+{
+	const RunReport rep = run_rawlog(base, rawlog, limits, compare_covariance);
+	const std::string t = tables(rep, title) + growth_section(base, rawlog, limits, growth, rep);
 	std::cout << t << std::flush;
 	return t;
 }
@@ -489,6 +568,7 @@ int main(int argc, char** argv)
 	{
 		BenchCommandLine cl;
 		if (!cl.cmd.parse(argc, argv)) return 0;
+		if (cl.growth_runs.getValue() < 1) throw std::invalid_argument("--growth-runs must be at least 1");
 		const RunOptions base = cl.run_options();
 		std::string all;
 		const bool cov = cl.covariance_off.getValue();
@@ -497,7 +577,8 @@ int main(int argc, char** argv)
 		if (!cl.no_large.getValue())
 		{
 			const std::string large = cl.large_rawlog();
-			all += bench_rawlog(base, large, cl.large_step_limits(), mrpt::system::extractFileName(large), cov);
+			all += bench_rawlog(base, large, cl.large_step_limits(), mrpt::system::extractFileName(large), cov,
+								cl.growth_runs.getValue());
 		}
 		if (!cl.markdown.getValue().empty()) write_markdown(cl.markdown.getValue(), all);
 		return 0;
