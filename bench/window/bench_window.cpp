@@ -488,9 +488,8 @@ void run_covariance_pair(const RunOptions& w, const BenchInput& in, std::size_t 
 
 /** One rawlog: the EKF and the window of each policy, each on its own number of steps, rows merged
  * into one report. */
-RunReport run_rawlog(const RunOptions& base, const std::string& rawlog, const StepLimits& limits, bool compare_covariance)
+RunReport run_rawlog(const RunOptions& base, const BenchInput& in, const StepLimits& limits, bool compare_covariance)
 {
-	const BenchInput in = read_input(rawlog, limits.read);
 	RunReport rep;
 	rep.rawlog = in.log.path;
 	rep.steps = in.log.steps.size();
@@ -513,17 +512,16 @@ RunReport run_rawlog(const RunOptions& base, const std::string& rawlog, const St
 	return rep;
 }
 
-/** The SLAM-policy window of `base` on `rawlog` run `runs` − 1 more times, its online rows' step times
+/** The SLAM-policy window of `base` on the input `in` run `runs` − 1 more times, its online rows' step times
  * beside those of `rep` (the first run), as a growth table. Empty when there is no such row or runs < 2. */
-std::string growth_section(const RunOptions& base, const std::string& rawlog, const StepLimits& limits, int runs,
-						const RunReport& rep)
+std::string growth_section(const RunOptions& base, const BenchInput& in, const StepLimits& limits, int runs,
+						   const RunReport& rep)
 {
 	std::vector<std::pair<const RunRow*, std::vector<std::vector<double>>>> rows;
 	for (const auto& r : rep.rows)
 		if (r.name == "window" && r.policy == "slam" && r.trajectory == "online" && !r.step_ms.empty() && !r.failed)
 			rows.push_back({&r, {r.step_ms}});
 	if (rows.empty() || runs < 2) return "";
-	const BenchInput in = read_input(rawlog, limits.read);
 	RunOptions w = base;
 	w.run_ekf = false;
 	w.policies = {swba::estimators::LandmarkPolicy::Slam};
@@ -547,8 +545,9 @@ std::string growth_section(const RunOptions& base, const std::string& rawlog, co
 std::string bench_rawlog(const RunOptions& base, const std::string& rawlog, const StepLimits& limits,
 						 const std::string& title, bool compare_covariance, int growth = 1)
 {
-	const RunReport rep = run_rawlog(base, rawlog, limits, compare_covariance);
-	const std::string t = tables(rep, title) + growth_section(base, rawlog, limits, growth, rep);
+	const BenchInput in = read_input(rawlog, limits.read);
+	const RunReport rep = run_rawlog(base, in, limits, compare_covariance);
+	const std::string t = tables(rep, title) + growth_section(base, in, limits, growth, rep);
 	std::cout << t << std::flush;
 	return t;
 }
