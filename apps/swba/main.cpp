@@ -5,6 +5,7 @@
 #include <string>
 
 #include <swba/io/rawlog.h>
+#include <swba/linear/rank_update.h>
 
 #include "cli.h"
 #include "command.h"
@@ -57,6 +58,7 @@ int main(int argc, char** argv)
 		for (int i = 2; i < argc; i++) args.push_back(argv[i]);
 	try
 	{
+		if (!help) swba::active_simd_level();  // a bad SWBA_SIMD fails here, not in the middle of a run
 		return it->second.run(static_cast<int>(args.size()), args.data());
 	}
 	catch (const std::exception& e)

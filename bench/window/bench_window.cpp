@@ -16,6 +16,7 @@
 #include <swba/apps/run.h>
 #include <swba/apps/simulate.h>
 #include <swba/eval/ground_truth.h>
+#include <swba/linear/rank_update.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/system/filesystem.h>
@@ -296,7 +297,8 @@ std::string tables(const RunReport& rep, const std::string& title)
 	std::ostringstream s;
 	s << "### " << title << "\n\n";
 	s << "`" << rep.rawlog << "`: " << rep.steps << " steps, " << rep.distinct_landmarks << " landmarks observed, "
-	  << rep.readings << " readings.\n\n";
+	  << rep.readings << " readings; rank-update kernel " << swba::enum_name(swba::active_simd_level())
+	  << " (swba/linear/rank_update.h).\n\n";
 	s << timing_table(rep);
 	s << "\nCost per step (peak RSS: the process's while that estimator ran, the rawlog in memory included):\n\n";
 	s << cost_table(rep);

@@ -249,3 +249,16 @@ swba_cli_case(merge_not_a_sweep 1 REGEX "^swba merge: error: sweep manifest '/no
   ARGS merge /nonexistent)
 swba_cli_case(simulate_bad_ini 1 REGEX "^swba simulate: error: simul-landmarks INI '[^']*swba_run.ini': no \\[Params\\] random_seed"
   ARGS simulate ${CMAKE_SOURCE_DIR}/share/config/swba_run.ini --out ${_out}/simulate_bad_ini)
+
+# SWBA_SIMD (swba/linear/rank_update.h): the version names the kernel; a level that does not exist, or
+# that this machine lacks, fails before any work with one line; the baseline is always there.
+add_test(NAME runapp.e2e.version_names_kernel
+  COMMAND ${CMAKE_COMMAND} "-DCMD=$<TARGET_FILE:swba>|version" -DEXPECT_RC=0
+          "-DREGEX=^swba [0-9.]+ \\(MRPT [0-9.]+, Eigen [0-9.]+; rank-update kernel (baseline<OR>avx2<OR>avx512)\\)\n$" -P ${_check})
+add_test(NAME runapp.e2e.simd_baseline
+  COMMAND ${CMAKE_COMMAND} "-DCMD=${CMAKE_COMMAND}|-E|env|SWBA_SIMD=baseline|$<TARGET_FILE:swba>|version" -DEXPECT_RC=0
+          "-DREGEX=rank-update kernel baseline\\)" -P ${_check})
+add_test(NAME runapp.e2e.simd_unknown
+  COMMAND ${CMAKE_COMMAND} "-DCMD=${CMAKE_COMMAND}|-E|env|SWBA_SIMD=sse9|$<TARGET_FILE:swba>|run|--max-steps|5|--out|${_out}/simd_unknown"
+          -DEXPECT_RC=1 "-DREGEX=^swba run: error: unknown SWBA_SIMD level 'sse9' \\(expected baseline, avx2 or avx512\\)\n$"
+          -DCLEAN_DIR=${_out}/simd_unknown -P ${_check})

@@ -1,6 +1,7 @@
 #include "prior_only_store.h"
 
 #include <swba/linear/marginal.h>
+#include <swba/linear/rank_update.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -136,7 +137,7 @@ void PriorOnlyStore::add_update(const Eigen::MatrixXd& U, double sign)
 	if (pending_ + r > kMaxPending) flush_updates();
 	if (r > kMaxPending)
 	{
-		C_.topLeftCorner(n, n).selfadjointView<Eigen::Lower>().rankUpdate(U, sign);
+		lower_rank_update(C_.topLeftCorner(n, n), U, Eigen::VectorXd::Constant(r, sign));
 		return;
 	}
 	P_.middleCols(pending_, r).topRows(n) = U;
@@ -149,8 +150,7 @@ void PriorOnlyStore::flush_updates()
 {
 	if (pending_ == 0) return;
 	const Eigen::Index n = used_;
-	const auto P = P_.topLeftCorner(n, pending_);
-	C_.topLeftCorner(n, n).triangularView<Eigen::Lower>() += (P * sign_.head(pending_).asDiagonal()) * P.transpose();
+	lower_rank_update(C_.topLeftCorner(n, n), P_.topLeftCorner(n, pending_), sign_.head(pending_));
 	pending_ = 0;
 }
 

@@ -91,7 +91,8 @@ class PriorOnlyStore
 	void compact_if_sparse();
 	/** C += sign · U Uᵀ (U: the used rows), deferred: U joins the pending factors. */
 	void add_update(const Eigen::MatrixXd& U, double sign);
-	/** Applies the pending factors to C_'s lower triangle in one product. */
+	/** Applies the pending factors to C_'s lower triangle in one product (swba::lower_rank_update: the
+	 * widest SIMD kernel this CPU runs). */
 	void flush_updates();
 	/** Columns `cols` of C (pending updates included), over the used rows. */
 	Eigen::MatrixXd covariance_columns(const std::vector<int>& cols) const;
