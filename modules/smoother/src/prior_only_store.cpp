@@ -350,6 +350,13 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 		}
 	}
 
+	if (vars.size() == members_.size())  // the store empties: no other variable to condition on l
+	{
+		clear();
+		prior.append_rows(problem, vars, x_lin, J_rows, e_rows);
+		return;
+	}
+
 	// The others conditioned on l as well (their mean at l's mean is unchanged): G = C_pl C_ll⁻¹,
 	// k_p −= G k_l, K_p −= G K_l, K_pl = −G, C_pp −= G C_lp = W Wᵀ with W = C_pl L⁻ᵀ (l's own rows,
 	// garbage, are freed below).
