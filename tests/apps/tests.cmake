@@ -106,7 +106,7 @@ function(swba_cli_case name rc)
   add_test(NAME apps.cli.${name}
     COMMAND ${CMAKE_COMMAND} "-DCMD=${_cmd}" -DEXPECT_RC=${rc} "-DREGEX=${C_REGEX}" -P ${_check})
 endfunction()
-swba_cli_case(version_option 0 REGEX "^swba [0-9]+\\.[0-9]+\\.[0-9]+ \\(MRPT [0-9.]+, Eigen [0-9.]+\\)" ARGS --version)
+swba_cli_case(version_option 0 REGEX "^swba [0-9]+\\.[0-9]+\\.[0-9]+ \\(MRPT [0-9.]+, Eigen [0-9.]+; rank-update kernel [a-z0-9]+\\)" ARGS --version)
 swba_cli_case(help_command 0 REGEX "swba run +\\[<RAWLOG>\\] \\[--gt <FILE>\\]" ARGS help run)
 swba_cli_case(unknown_option 2 REGEX "^swba run: error: unknown option '--bogus' \\(see --help\\)" ARGS run --bogus)
 swba_cli_case(unknown_short_option 2 REGEX "^swba ape: error: unknown option '-x'" ARGS ape -x a b)
