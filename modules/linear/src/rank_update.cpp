@@ -11,34 +11,38 @@ namespace swba
 {
 namespace
 {
-bool cpu_runs(SimdLevel level)
+using Kernel = void (*)(std::ptrdiff_t, std::ptrdiff_t, const double*, std::ptrdiff_t, const double*, double*,
+					   std::ptrdiff_t);
+
+/** The kernel of a SIMD level when this build has it and this CPU runs it, else nullptr (also for the
+ * baseline, which is the Eigen expression of lower_rank_update itself). */
+Kernel simd_kernel([[maybe_unused]] SimdLevel level)
 {
+#if defined(__x86_64__) && defined(__GNUC__)
 	switch (level)
 	{
-		case SimdLevel::Baseline:
-			return true;
-#if defined(__x86_64__) && defined(__GNUC__)
-		case SimdLevel::Avx2:
 #ifdef SWBA_SIMD_HAVE_AVX2
-			return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-#else
-			return false;
+		case SimdLevel::Avx2:
+			return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") ? &simd::avx2::lower_rank_update
+																				   : nullptr;
 #endif
-		case SimdLevel::Avx512:
 #ifdef SWBA_SIMD_HAVE_AVX512
+		case SimdLevel::Avx512:
 			return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
-				   __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw") &&
-				   __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-#else
-			return false;
+						   __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw") &&
+						   __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")
+					   ? &simd::avx512::lower_rank_update
+					   : nullptr;
 #endif
-#else
 		default:
-			return false;
-#endif
+			return nullptr;
 	}
-	return false;
+#else
+	return nullptr;
+#endif
 }
+
+bool cpu_runs(SimdLevel level) { return level == SimdLevel::Baseline || simd_kernel(level) != nullptr; }
 
 /** The level to run, or the reason there is none (an invalid SWBA_SIMD). */
 struct Choice
@@ -106,23 +110,9 @@ void lower_rank_update(SimdLevel level, Eigen::Ref<Eigen::MatrixXd> C, const Eig
 	if (!cpu_runs(level))
 		throw std::invalid_argument("lower_rank_update: SIMD level " + enum_name(level) + " not available");
 	if (C.rows() == 0 || sign.size() == 0) return;
-	switch (level)
-	{
-#ifdef SWBA_SIMD_HAVE_AVX2
-		case SimdLevel::Avx2:
-			simd::avx2::lower_rank_update(C.rows(), U.cols(), U.data(), U.outerStride(), sign.data(), C.data(),
-										  C.outerStride());
-			return;
-#endif
-#ifdef SWBA_SIMD_HAVE_AVX512
-		case SimdLevel::Avx512:
-			simd::avx512::lower_rank_update(C.rows(), U.cols(), U.data(), U.outerStride(), sign.data(), C.data(),
-											C.outerStride());
-			return;
-#endif
-		default:
-			C.triangularView<Eigen::Lower>() += (U * sign.asDiagonal()) * U.transpose();
-			return;
-	}
+	if (const Kernel kernel = simd_kernel(level))
+		kernel(C.rows(), U.cols(), U.data(), U.outerStride(), sign.data(), C.data(), C.outerStride());
+	else
+		C.triangularView<Eigen::Lower>() += (U * sign.asDiagonal()) * U.transpose();
 }
 }  // namespace swba
