@@ -196,7 +196,9 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 		throw std::invalid_argument("step " + std::to_string(step.index) +
 									": 3D odometry or a reading with pitch in a planar run (set the model to 6d)");
 	const VariableId vprev = smoother_.states().back().var;
-	const VariableId vnew = add_pose_variable(pose(vprev) + step.odometry.mean);
+	const auto guess = pose_guesses_.find(step.time());
+	const VariableId vnew =
+		add_pose_variable(guess != pose_guesses_.end() ? guess->second : pose(vprev) + step.odometry.mean);
 	if (step.has_observation) last_sensor_ = model_ == PoseModel::Planar ? planar_sensor(step.sensor_pose) : step.sensor_pose;
 	poses_.push_back({step.time(), vnew, last_sensor_});
 	const std::size_t k = poses_.size() - 1;

@@ -93,6 +93,9 @@ class RangeBearingGraph
 	 * turns it off and gates after each solve with regate_all(). */
 	bool gate_on_entry() const { return gate_on_entry_; }
 	void set_gate_on_entry(bool on) { gate_on_entry_ = on; }
+	/** Initial values of the poses add_step() creates, by time, in place of dead reckoning (the batch
+	 * started from another estimate); a time without one is dead-reckoned. */
+	void set_pose_guesses(std::map<double, mrpt::poses::CPose3D> guesses) { pose_guesses_ = std::move(guesses); }
 	/** After a solve: the held readings that now pass the gate enter the window (counted in
 	 * sum.readmitted; their factors act from the next solve). */
 	void readmit_held(StepSummary& sum);
@@ -354,6 +357,7 @@ class RangeBearingGraph
 	double robust_scale_sq_ = 0;                ///< χ²_dof(robust_probability) (set with the model)
 	double gate_threshold_ = 0;                 ///< χ²_dof(gate_probability) (set with the model)
 	bool gate_on_entry_;
+	std::map<double, mrpt::poses::CPose3D> pose_guesses_;
 	/** First readings of landmarks not yet in the graph, waiting for a consistent second reading. */
 	std::map<std::int32_t, std::vector<Observation>> unconfirmed_;
 	/** Odometry covariance of the newest pose relative to the previous one, on the pose variable's

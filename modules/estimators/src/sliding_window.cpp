@@ -329,13 +329,20 @@ void batch_covariances(detail::RangeBearingGraph& graph, BatchResult& r)
 }
 }  // namespace
 
-BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& options, int max_iterations)
+BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& options, int max_iterations,
+					  const eval::Trajectory* start)
 {
 	const auto t0 = Clock::now();
 	SlidingWindowOptions o = options;
 	o.window_size = 0;
 	detail::RangeBearingGraph graph(o);
 	graph.set_gate_on_entry(false);  // dead reckoning over the whole run is no prediction to gate against
+	if (start)
+	{
+		std::map<double, mrpt::poses::CPose3D> guesses;
+		for (std::size_t i = 0; i < start->size(); i++) guesses.emplace(start->stamps[i], start->poses[i]);
+		graph.set_pose_guesses(std::move(guesses));
+	}
 	StepSummary unused;
 	for (const auto& s : rawlog.steps)
 	{

@@ -188,6 +188,8 @@ ordered_json row_object(const RunRow& r)
 	e["covariance_seconds"] = r.covariance_seconds ? number(*r.covariance_seconds) : ordered_json(nullptr);
 	e["steps_processed"] = r.steps;
 	e["readings"] = r.reading_counts ? readings_object(*r.reading_counts) : ordered_json(nullptr);
+	e["start"] = string_or_null(r.start);
+	e["final_cost"] = r.final_cost ? number(*r.final_cost) : ordered_json(nullptr);
 	e["failed"] = r.failed;
 	e["failed_step"] = r.failed ? ordered_json(r.failed_step) : ordered_json(nullptr);
 	e["failure"] = r.failed ? ordered_json(r.failure) : ordered_json(nullptr);

@@ -334,13 +334,18 @@ RunRow named_row(const std::string& name, const std::string& label, const std::s
 }
 }  // namespace
 
-RunRow run_batch_row(const RowContext& ctx, const estimators::SlidingWindowOptions& unbounded)
+RunRow run_batch_row(const RowContext& ctx, const estimators::SlidingWindowOptions& unbounded,
+					 const eval::Trajectory* start, const std::string& start_name)
 {
 	const std::size_t n = ctx.rawlog.steps.size();
-	return single_task_row(ctx, named_row("batch", "batch", "smoothed"),
-						   "solving all " + std::to_string(n) + " steps at once...", n > 300, [&](RunRow& row) {
-							   estimators::BatchResult b =
-								   estimators::run_batch(ctx.rawlog, unbounded, ctx.options.batch_max_iterations);
+	RunRow named = named_row("batch", "batch", "smoothed");
+	named.start = start_name;
+	return single_task_row(ctx, std::move(named),
+						   "solving all " + std::to_string(n) + " steps at once (from " + start_name + ")...", n > 300,
+						   [&](RunRow& row) {
+							   estimators::BatchResult b = estimators::run_batch(
+								   ctx.rawlog, unbounded, ctx.options.batch_max_iterations, start);
+							   row.final_cost = b.summary.final_cost;
 							   row.estimate = after_steps(in_gauge_frame(b.trajectory, unbounded, b.initial_pose));
 							   if (unbounded.covariances)
 							   {

@@ -36,8 +36,10 @@ RunRow run_ekf_row(const RowContext& ctx, const std::string& method, std::vector
 /** The window with `options`: its online and lagged rows. `combos`: the labels name policy and FEJ. */
 std::pair<RunRow, RunRow> run_window_rows(const RowContext& ctx, const estimators::SlidingWindowOptions& options,
 										  bool combos);
-/** The batch solution (window = ∞, one solve). */
-RunRow run_batch_row(const RowContext& ctx, const estimators::SlidingWindowOptions& unbounded);
+/** The batch solution (window = ∞, one solve), started from dead reckoning, or from `start` (a window's
+ * lagged trajectory, described by `start_name`, e.g. "lagged W=30"). */
+RunRow run_batch_row(const RowContext& ctx, const estimators::SlidingWindowOptions& unbounded,
+					 const eval::Trajectory* start = nullptr, const std::string& start_name = "dead reckoning");
 /** The full-history causal optimum ("online, W = ∞"). */
 RunRow run_causal_row(const RowContext& ctx, const estimators::SlidingWindowOptions& unbounded);
 

@@ -41,7 +41,8 @@ std::vector<MergedRow> merged_estimators(const std::vector<JobSummary>& jobs)
 		for (const auto& e : j.json.at("estimators"))
 		{
 			const std::string name = e.at("name").get<std::string>();
-			if (name != "ekf" && name != "window" && name != "batch" && name != "causal")
+			if (name != "ekf" && name != "window" && name != "batch" && name != "batch_alt" &&
+				name != "causal")
 				throw std::runtime_error(j.path + ": unknown estimator '" + name + "'");
 		}
 	std::vector<MergedRow> out;
@@ -68,6 +69,7 @@ std::vector<MergedRow> merged_estimators(const std::vector<JobSummary>& jobs)
 		}
 	for (const auto& key : combos) take("window", &key);
 	take("batch", nullptr);
+	take("batch_alt", nullptr);
 	take("causal", nullptr);
 	return out;
 }

@@ -64,6 +64,10 @@ struct RunRow
 	 * shares the run of its online row and has the same numbers. */
 	std::vector<double> step_ms;
 	double mean_iterations = 0;  ///< window rows: mean LM iterations per step; batch: iterations
+	/** Batch rows: the start of the solve ("dead reckoning" or "lagged W=<n>") and its final cost (the
+	 * run keeps the start with the lower cost as the batch row and reports the other as batch_alt). */
+	std::string start;
+	std::optional<double> final_cost;
 	/** Window, batch and causal rows: what the χ² gate and the robust loss did with the readings (the
 	 * lagged row shares its online row's). Null for the EKF. */
 	std::optional<estimators::ReadingCounts> reading_counts;

@@ -335,8 +335,13 @@ struct BatchResult
 /** The same factors over the whole rawlog in one problem (window = ∞), initialised by dead
  * reckoning and first observations, solved (with gate_readings: re-gated and solved again while the
  * gate changes the admitted readings, at most 6 solves). `max_iterations` overrides the options' solver.
- * Throws StepError for bad data at a step. */
-BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& options, int max_iterations = 100);
+ * `start` (optional): initial poses by time (t = step.time(); the initial pose keeps the gauge's) in
+ * place of dead reckoning, e.g. a window's lagged trajectory; steps it lacks are dead-reckoned from
+ * the previous pose, and every landmark is initialised from its first reading at its pose's start.
+ * A batch started from dead reckoning can stop in a local minimum on real logs (large heading drift);
+ * compare Summary::final_cost of the two starts. Throws StepError for bad data at a step. */
+BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& options, int max_iterations = 100,
+					  const eval::Trajectory* start = nullptr);
 
 /** "Online, W = ∞": re-solves the whole history after every step and keeps the newest pose (the
  * causal optimum the online window trajectory is measured against). O(steps²): for evaluation.
