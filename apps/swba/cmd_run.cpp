@@ -214,6 +214,11 @@ int run_run(int argc, char** argv)
 		std::cerr << "swba run: error: every estimator failed (see the table)\n";
 		return 1;
 	}
+	if (apps::some_estimator_diverged(report))
+	{
+		std::cerr << "swba run: error: an estimator diverged (see the notes)\n";
+		return 3;
+	}
 	return 0;
 }
 SWBA_REGISTER_COMMAND("run", "EKF vs sliding window vs batch on an MRPT rawlog: APE table and files", run_run);

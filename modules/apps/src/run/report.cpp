@@ -70,7 +70,7 @@ std::string format_comparison_table(const RunReport& report)
 	{
 		s << pad_right(r.label, wl) << pad_left(r.window ? std::to_string(r.window) : "-", 5) << "  "
 		  << pad_right(r.trajectory, 11);
-		if (r.has_ape)
+		if (r.has_ape && !r.diverged)
 			s << pad_left(fixed(r.ape_trans.rmse, 6), cw) << pad_left(fixed(r.ape_trans.mean, 6), cw)
 			  << pad_left(fixed(r.ape_trans.median, 6), cw) << pad_left(fixed(r.ape_trans.max, 6), cw)
 			  << pad_left(fixed(r.ape_full.rmse, 6), cw);
@@ -81,6 +81,8 @@ std::string format_comparison_table(const RunReport& report)
 			s << "  INTERRUPTED after " << r.failed_step << " steps";
 		else if (r.failed)
 			s << "  FAILED at step " << r.failed_step << ": " << r.failure;
+		else if (r.diverged)
+			s << "  DIVERGED (see the note)";
 		s << "\n";
 	}
 	return s.str();
@@ -96,6 +98,7 @@ std::string format_ape_text(const RunReport& report)
 		if (!r.file.empty()) s << ": " << r.file;
 		s << "\n";
 		if (r.failed) s << "FAILED at step " << r.failed_step << ": " << r.failure << "\n";
+		if (r.diverged) s << "DIVERGED: " << r.divergence << " (figures below are not a result)\n";
 		if (!r.has_ape)
 		{
 			s << "(no APE)\n\n";
@@ -117,7 +120,7 @@ std::string format_ape_csv(const RunReport& report)
 	s << "label,name,window,trajectory,policy,fej,method,failed,failed_step,poses";
 	for (const char* part : {"trans", "full"})
 		for (const auto& [name, field] : stat_fields()) s << "," << part << "_" << name;
-	s << ",seconds,ms_per_step\n";
+	s << ",seconds,ms_per_step,diverged,reading_misfit\n";
 	char buf[64];
 	auto num = [&buf](double v) {
 		std::snprintf(buf, sizeof(buf), "%.9g", v);
@@ -131,7 +134,8 @@ std::string format_ape_csv(const RunReport& report)
 		  << r.estimate.size();
 		for (const eval::Statistics* st : {&r.ape_trans, &r.ape_full})
 			for (const auto& f : stat_fields()) s << "," << (r.has_ape ? num((*st).*(f.second)) : "");
-		s << "," << num(r.seconds) << "," << num(r.ms_per_step) << "\n";
+		s << "," << num(r.seconds) << "," << num(r.ms_per_step) << "," << (r.diverged ? "true" : "false") << ","
+		  << (r.reading_misfit ? num(*r.reading_misfit) : "") << "\n";
 	}
 	return s.str();
 }
@@ -190,6 +194,9 @@ ordered_json row_object(const RunRow& r)
 	e["readings"] = r.reading_counts ? readings_object(*r.reading_counts) : ordered_json(nullptr);
 	e["start"] = string_or_null(r.start);
 	e["final_cost"] = r.final_cost ? number(*r.final_cost) : ordered_json(nullptr);
+	e["diverged"] = r.diverged;
+	e["divergence"] = r.diverged ? ordered_json(r.divergence) : ordered_json(nullptr);
+	e["reading_misfit"] = r.reading_misfit ? number(*r.reading_misfit) : ordered_json(nullptr);
 	e["failed"] = r.failed;
 	e["failed_step"] = r.failed ? ordered_json(r.failed_step) : ordered_json(nullptr);
 	e["failure"] = r.failed ? ordered_json(r.failure) : ordered_json(nullptr);

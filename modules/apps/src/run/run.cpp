@@ -1,4 +1,5 @@
 // swba run: read the rawlog and ground truth, run every estimator asked for, report.
+#include "divergence.h"
 #include "rows.h"
 
 #include <swba/apps/run.h>
@@ -301,6 +302,8 @@ RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
 	if (options.run_causal) report.rows.back().assigned_ids = decided;
 	name_ekf_files(report, options.ekf_methods.size());
 	add_reading_notes(report);
+	mark_diverged_rows(report, rawlog, ctx.base,
+					   estimators::resolve_pose_model(ctx.base.model, rawlog.steps) == estimators::PoseModel::Planar);
 	return report;
 }
 
@@ -324,6 +327,13 @@ bool run_interrupted(const RunReport& report)
 {
 	for (const auto& r : report.rows)
 		if (r.interrupted) return true;
+	return false;
+}
+
+bool some_estimator_diverged(const RunReport& report)
+{
+	for (const auto& r : report.rows)
+		if (r.diverged) return true;
 	return false;
 }
 

@@ -81,6 +81,15 @@ struct RunRow
 	 * readings' own IDs, or the simulator's landmark ground truth): how right it was. */
 	std::optional<estimators::AssociationQuality> association;
 
+	/** The row's estimate left its readings (not finite, or a median reading misfit above the limit;
+	 * doc/realdata.md): its figures are not a result. The table prints DIVERGED instead of them and
+	 * `swba run` exits 3; summary.json and ape.csv keep them, flagged. */
+	bool diverged = false;
+	std::string divergence;  ///< why, one line
+	/** The median squared whitened innovation of the row's readings over its χ² median (1: as the
+	 * declared noise predicts); empty when not measured (no landmark estimates). */
+	std::optional<double> reading_misfit;
+
 	bool failed = false;
 	std::size_t failed_step = 0;  ///< the step k whose processing threw
 	std::string failure;          ///< one line
@@ -137,6 +146,8 @@ void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses:
 
 /** True when the report has rows and every one of them failed (swba run then exits 1). */
 bool every_estimator_failed(const RunReport& report);
+/** True when some row is marked diverged. */
+bool some_estimator_diverged(const RunReport& report);
 
 /** True when a row was interrupted (RunControl::stop_requested). */
 bool run_interrupted(const RunReport& report);
