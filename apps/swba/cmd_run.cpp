@@ -87,12 +87,12 @@ struct RunCommandLine
 									  "D"};
 	TCLAP::ValueArg<std::string> gate{"", "gate",
 									  "chi-square gate of the bearing-range readings (doc/outliers.md): on or off "
-									  "(Default: on)",
+									  "(Default: off)",
 									  false, "", "on|off"};
 	TCLAP::ValueArg<double> gate_probability{
 		"", "gate-probability", "share of correct readings the gate passes, in (0, 1) (Default: 0.999)", false, 0, "P"};
 	TCLAP::ValueArg<std::string> robust_loss{
-		"", "robust-loss", "robust loss of the range-bearing factors, window and batch: none, huber or cauchy (Default: none)",
+		"", "robust-loss", "robust loss of the range-bearing factors, window and batch: none, huber or cauchy (Default: cauchy)",
 		false, "", "L"};
 	TCLAP::ValueArg<double> robust_probability{
 		"", "robust-probability",

@@ -131,13 +131,15 @@ struct SlidingWindowOptions
 	 * consistent readings: its first reading waits until one agrees with it (a reading alone cannot be
 	 * tested, and an outlier first reading would otherwise hold the landmark wrong and gate every good
 	 * reading of it). Batch: every reading is re-tested against each solution and the problem solved
-	 * again until the admitted set settles. Gated readings never reach the marginal prior. Default true. */
-	bool gate_readings = true;
+	 * again until the admitted set settles. Gated readings never reach the marginal prior. Default false: on real logs a drifting estimate
+	 * gates correct readings, which lets it drift further (doc/realdata.md); the robust loss takes outliers. */
+	bool gate_readings = false;
 	/** Probability of the χ² gate, in (0, 1): the share of correct readings that pass. Default 0.999. */
 	double gate_probability = 0.999;
 	/** Robust loss of every range-bearing factor (window and batch); robustified factors enter the
-	 * marginal prior with their IRLS weight at the current estimate. Default None. */
-	RobustLoss robust_loss = RobustLoss::None;
+	 * marginal prior with their IRLS weight at the current estimate. Default Cauchy: a gross reading's influence vanishes instead of being cut by a
+	 * hard decision that can cascade (doc/realdata.md). */
+	RobustLoss robust_loss = RobustLoss::Cauchy;
 	/** Scale of the robust loss, in whitened units: √χ²_dof(robust_probability) with dof = reading_dof,
 	 * the radius that holds this share of correct readings (residuals beyond it are down-weighted), in
 	 * (0, 1). Default 0.95. */
