@@ -292,6 +292,28 @@ TEST(RunTable, OneRowPerEstimatorWithFailures)
 	EXPECT_EQ(lines[7].rfind("batch", 0), 0u);
 }
 
+TEST(RunTable, ColumnsStayAlignedWithALargeWindow)
+{
+	RunReport rep = sample_report();
+	rep.rows[1].window = rep.rows[2].window = 1000000;
+	const std::string table = swba::apps::format_comparison_table(rep);
+	std::vector<std::string> lines;
+	std::string line;
+	std::istringstream in(table);
+	while (std::getline(in, line)) lines.push_back(line);
+	ASSERT_GE(lines.size(), 8u) << table;
+	// The W values end where the header's "W" does, and every trajectory starts under "trajectory".
+	const std::size_t w_end = lines[2].find(" W ") + 2, traj = lines[2].find("trajectory");
+	for (std::size_t i = 4; i < lines.size(); i++)
+	{
+		EXPECT_EQ(lines[i][w_end - 1], i == 4 || i == 7 ? '-' : '0') << table;
+		EXPECT_EQ(lines[i][w_end], ' ') << table;
+		EXPECT_NE(lines[i][traj], ' ') << table;
+		EXPECT_EQ(lines[i][traj - 1], ' ') << table;
+	}
+	EXPECT_EQ(lines[3].size(), lines[2].size());
+}
+
 TEST(RunApeText, EvoBlocksPerEstimator)
 {
 	const RunReport rep = sample_report();

@@ -47,8 +47,8 @@ swba_run_case(command_line_overrides_config 0 REGEX "\\(20 steps\\).*\nwindow W=
 swba_run_case(help 0 REGEX "--windows.*--no-ekf.*--no-batch.*--causal.*--ekf-method.*--policy.*--fej.*--landmarks.*--gauge.*--association.*--sensor-std-range.*--max-steps.*--threads.*--out"
   ARGS --help)
 
-# Bad input: one line naming the file/option, exit != 0.
-swba_run_case(window_1 1 REGEX "swba run: error: --windows: window size must be >= 2, got 1\n"
+# Bad input: one line naming the file/option; exit 2 for a bad command line, 1 for a bad input file.
+swba_run_case(window_1 2 REGEX "swba run: error: --windows: window size must be in \\[2, 1000000\\], got 1 \\(see --help\\)\n"
   ARGS --windows 5,1 --max-steps 10 --out ${_out}/window_1)
 swba_run_case(missing_rawlog 1 REGEX "swba run: error: rawlog '/nonexistent/none.rawlog': file does not exist"
   ARGS /nonexistent/none.rawlog --out ${_out}/missing_rawlog)
@@ -59,15 +59,15 @@ swba_run_case(gt_too_short 1
   ARGS ${_demo} --gt ${_data}/gt_30_rows.txt --max-steps 60 --out ${_out}/gt_too_short)
 swba_run_case(missing_gt 1 REGEX "swba run: error: [^\n]*/nonexistent/gt.txt"
   ARGS ${_demo} --gt /nonexistent/gt.txt --max-steps 10 --out ${_out}/missing_gt)
-swba_run_case(map_free_gauge 1 REGEX "swba run: error: the map landmark policy needs the fixed or the prior gauge"
+swba_run_case(map_free_gauge 2 REGEX "swba run: error: the map landmark policy needs the fixed or the prior gauge"
   ARGS --policy slam,map --gauge free --out ${_out}/map_free_gauge)
-swba_run_case(bad_policy 1 REGEX "swba run: error: unknown policy 'fast' \\(expected slam, constant-time, map, a comma-separated list of them, both or all\\)"
+swba_run_case(bad_policy 2 REGEX "swba run: error: unknown policy 'fast' \\(expected slam, constant-time, map, a comma-separated list of them, both or all\\)"
   ARGS --policy fast --out ${_out}/bad_policy)
-swba_run_case(bad_fej 1 REGEX "swba run: error: unknown fej value 'sometimes'" ARGS --fej sometimes --out ${_out}/bad_fej)
-swba_run_case(bad_gauge 1 REGEX "swba run: error: unknown gauge 'loose'" ARGS --gauge loose --out ${_out}/bad_gauge)
-swba_run_case(bad_landmarks 1 REGEX "swba run: error: unknown landmark parameteri[sz]ation 'uvw'" ARGS --landmarks uvw --out ${_out}/bad_landmarks)
-swba_run_case(bad_ekf_method 1 REGEX "swba run: error: unknown EKF method 'kfUKF'" ARGS --ekf-method kfUKF --out ${_out}/bad_ekf_method)
-swba_run_case(bad_sensor_std 1 REGEX "swba run: error: --sensor-std-range must be a number > 0" ARGS --sensor-std-range 0 --out ${_out}/bad_sensor_std)
+swba_run_case(bad_fej 2 REGEX "swba run: error: unknown fej value 'sometimes'" ARGS --fej sometimes --out ${_out}/bad_fej)
+swba_run_case(bad_gauge 2 REGEX "swba run: error: unknown gauge 'loose'" ARGS --gauge loose --out ${_out}/bad_gauge)
+swba_run_case(bad_landmarks 2 REGEX "swba run: error: unknown landmark parameteri[sz]ation 'uvw'" ARGS --landmarks uvw --out ${_out}/bad_landmarks)
+swba_run_case(bad_ekf_method 2 REGEX "swba run: error: unknown EKF method 'kfUKF'" ARGS --ekf-method kfUKF --out ${_out}/bad_ekf_method)
+swba_run_case(bad_sensor_std 2 REGEX "swba run: error: --sensor-std-range must be a number > 0" ARGS --sensor-std-range 0 --out ${_out}/bad_sensor_std)
 swba_run_case(misspelt_config_key 1
   REGEX "swba run: error: config '[^']*misspelt_key.ini': unknown key 'size' in section \\[window\\] \\(known keys: sizes, "
   ARGS --config ${_data}/misspelt_key.ini --out ${_out}/misspelt_config_key)
@@ -262,3 +262,7 @@ add_test(NAME runapp.e2e.simd_unknown
   COMMAND ${CMAKE_COMMAND} "-DCMD=${CMAKE_COMMAND}|-E|env|SWBA_SIMD=sse9|$<TARGET_FILE:swba>|run|--max-steps|5|--out|${_out}/simd_unknown"
           -DEXPECT_RC=1 "-DREGEX=^swba run: error: unknown SWBA_SIMD level 'sse9' \\(expected baseline, avx2 or avx512\\)\n$"
           -DCLEAN_DIR=${_out}/simd_unknown -P ${_check})
+# A reused output directory: the earlier run's files are removed, never mixed with this run's.
+add_test(NAME runapp.e2e.reused_out_dir
+  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/reused_out_dir.sh $<TARGET_FILE:swba> ${_out}/reused_out_dir)
+set_tests_properties(runapp.e2e.reused_out_dir PROPERTIES PASS_REGULAR_EXPRESSION "OK: reused" TIMEOUT 120)

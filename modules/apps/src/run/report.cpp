@@ -1,5 +1,6 @@
 // swba run: the comparison table, ape.txt / ape.csv / summary.json, TUM files and plots.
 #include "covariance_files.h"
+#include "output_dir.h"
 #include "plots.h"
 
 #include <swba/apps/run.h>
@@ -55,20 +56,24 @@ void write_text_file(const std::string& path, const std::string& text, RunReport
 
 std::string format_comparison_table(const RunReport& report)
 {
-	std::size_t wl = std::string("estimator").size();
-	for (const auto& r : report.rows) wl = std::max(wl, r.label.size());
+	std::size_t wl = std::string("estimator").size(), ww = 5;  // label and W column widths
+	for (const auto& r : report.rows)
+	{
+		wl = std::max(wl, r.label.size());
+		ww = std::max(ww, std::to_string(r.window).size() + 2);
+	}
 	std::ostringstream s;
 	s << "swba run: " << report.rawlog << " (" << report.steps << " steps)";
 	if (report.ground_truth.empty()) s << ", no ground truth: APE not computed";
 	s << "\nAPE not aligned; estimate after step k vs ground-truth row k+1\n";
 	const std::size_t cw = 11;
-	s << pad_right("estimator", wl) << pad_left("W", 5) << "  " << pad_right("trajectory", 11)
+	s << pad_right("estimator", wl) << pad_left("W", ww) << "  " << pad_right("trajectory", 11)
 	  << pad_left("trans rmse", cw) << pad_left("trans mean", cw) << pad_left("trans med", cw)
 	  << pad_left("trans max", cw) << pad_left("full rmse", cw) << pad_left("ms/step", 10) << "\n";
-	s << std::string(wl + 5 + 2 + 11 + 5 * cw + 10, '-') << "\n";
+	s << std::string(wl + ww + 2 + 11 + 5 * cw + 10, '-') << "\n";
 	for (const auto& r : report.rows)
 	{
-		s << pad_right(r.label, wl) << pad_left(r.window ? std::to_string(r.window) : "-", 5) << "  "
+		s << pad_right(r.label, wl) << pad_left(r.window ? std::to_string(r.window) : "-", ww) << "  "
 		  << pad_right(r.trajectory, 11);
 		if (r.has_ape)
 			s << pad_left(fixed(r.ape_trans.rmse, 6), cw) << pad_left(fixed(r.ape_trans.mean, 6), cw)
@@ -237,6 +242,7 @@ void write_run_files(const RunOptions& options, const std::vector<mrpt::poses::C
 	write_text_file(path("summary.json"), format_summary_json(report), report);
 	write_text_file(path("config.ini"),
 					"# swba run: the options of this run (load with --config)\n" + format_run_config(options), report);
+	write_run_manifest(dir, report.files);
 }
 
 void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& gt, RunReport& report)
@@ -248,13 +254,12 @@ void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses:
 		throw std::runtime_error("cannot create output directory '" + dir + "'" + (ec ? ": " + ec.message() : ""));
 	write_run_files(options, gt, report);
 
-	if (!options.plots || gt.empty()) return;
-	eval::PlotOptions po;
-	if (eval::find_gnuplot(po).empty())
-	{
-		report.notes.push_back("gnuplot not found: no plots");
-		return;
-	}
+	if (!options.plots) return;
+	// Without gnuplot the plots' data and scripts are still written: gnuplot elsewhere draws them.
+	if (eval::find_gnuplot().empty())
+		report.notes.push_back("gnuplot not found: plots not drawn; their data (.dat) and scripts (.gp) are in " + dir +
+							   "/ and " + dir + "/plots/ (cd there && gnuplot <name>.gp)");
 	write_run_plots(options, gt, report);
+	write_run_manifest(dir, report.files);
 }
 }  // namespace swba::apps

@@ -1,4 +1,5 @@
 // swba run: read the rawlog and ground truth, run every estimator asked for, report.
+#include "output_dir.h"
 #include "rows.h"
 
 #include <swba/apps/run.h>
@@ -6,13 +7,10 @@
 
 #include <mrpt/system/filesystem.h>
 
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <ostream>
 #include <stdexcept>
-#include <unistd.h>
 
 namespace swba::apps
 {
@@ -255,22 +253,6 @@ RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
 	return report;
 }
 
-/** Creates `dir` and checks that a file can be created in it: a run must not spend its estimation
- * time and then lose the results to a mistyped or read-only --out. */
-void prepare_output_directory(const std::string& dir)
-{
-	std::error_code ec;
-	if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
-		throw std::runtime_error("output directory '" + dir + "' exists and is not a directory");
-	std::filesystem::create_directories(dir, ec);
-	if (ec) throw std::runtime_error("cannot create output directory '" + dir + "': " + ec.message());
-	const std::string probe = dir + "/.swba_write_test." + std::to_string(::getpid());
-	std::FILE* f = std::fopen(probe.c_str(), "w");
-	if (!f) throw std::runtime_error("cannot write into output directory '" + dir + "': " + std::strerror(errno));
-	std::fclose(f);
-	std::remove(probe.c_str());
-}
-
 bool run_interrupted(const RunReport& report)
 {
 	for (const auto& r : report.rows)
@@ -313,7 +295,7 @@ RunReport run_app(const RunOptions& given, std::ostream& out, std::ostream& log,
 			<< rawlog.steps.size() << " steps (" << rawlog.steps.size() + 1
 			<< " rows used): is the rawlog cut short, or the ground truth another run's?\n";
 	print_inputs(options, rawlog, gt_path, log);
-	prepare_output_directory(options.out_dir);
+	prepare_output_directory(options.out_dir, "swba run", log);
 
 	RunControl control;
 	control.stop_requested = stop_requested;
