@@ -122,8 +122,8 @@ bool is_switch_run(TCLAP::CmdLine& cmd, const std::string& option)
 	return true;
 }
 
-/** argv with "--name=value" split in two; an unknown option, or a value given to a switch, is an
- * error message instead. An argument after a value-taking option is its value even if it starts
+/** argv with "--name=value" split in two and evo's "--name_with_underscores" read as
+ * "--name-with-underscores"; an unknown option, or a value given to a switch, is an error message instead. An argument after a value-taking option is its value even if it starts
  * with '-' (a negative offset); after "--" nothing is an option. */
 std::string normalise(TCLAP::CmdLine& cmd, int argc, char** argv, std::vector<std::string>& out)
 {
@@ -151,6 +151,13 @@ std::string normalise(TCLAP::CmdLine& cmd, int argc, char** argv, std::vector<st
 			a.resize(eq);
 		}
 		const TCLAP::Arg* arg = find_option(cmd, a);
+		if (!arg && a.compare(0, 2, "--") == 0 && a.find('_') != std::string::npos)
+		{
+			// evo's spelling of the same option (--t_max_diff for --t-max-diff).
+			std::string dashed = a;
+			std::replace(dashed.begin() + 2, dashed.end(), '_', '-');
+			if ((arg = find_option(cmd, dashed))) a = dashed;
+		}
 		if (!arg && a.size() > 2 && a[1] != '-' && is_switch_run(cmd, a))
 		{
 			out.push_back(a);

@@ -266,3 +266,21 @@ add_test(NAME runapp.e2e.simd_unknown
 add_test(NAME runapp.e2e.reused_out_dir
   COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/reused_out_dir.sh $<TARGET_FILE:swba> ${_out}/reused_out_dir)
 set_tests_properties(runapp.e2e.reused_out_dir PROPERTIES PASS_REGULAR_EXPRESSION "OK: reused" TIMEOUT 120)
+
+# evo users' inputs (doc/evaluation.md, "Coming from evo"): a TUM ground truth for swba run (the same
+# figures as MRPT's path: the evo reference gt.tum holds its rows), evo's `ape tum REF EST` form and its
+# underscore spellings; --save-results NAME.zip is refused with what to give instead; evo's other formats
+# are named.
+set(_evo_ref ${SWBA_DATA_DIR}/evo_reference)
+swba_run_case(gt_tum 0 REGEX "\nwindow W=5 +5 +online +0\\.009417 +0\\.008993 +0\\.008487 +0\\.015943 +0\\.009965 "
+  ARGS ${_demo} --gt ${_evo_ref}/gt_kf-slam_6D_demo.tum --max-steps 60 --windows 5 --no-ekf --no-batch --no-plots
+       --out ${_out}/gt_tum)
+swba_cli_case(evo_tum_form 0 REGEX "APE w.r.t. translation part \\(m\\)\n\\(not aligned\\)\n.*rmse\t0\\.016064\n"
+  ARGS ape tum ${_evo_ref}/gt_kf-slam_6D_demo.tum ${_evo_ref}/ekf_kf-slam_6D_demo.tum)
+swba_cli_case(evo_underscore_options 0 REGEX "RPE w.r.t. translation part \\(m\\)\nfor delta = 10 \\(frames\\) using all pairs"
+  ARGS rpe tum ${_evo_ref}/gt_kf-slam_6D_demo.tum ${_evo_ref}/ekf_kf-slam_6D_demo.tum --t_max_diff 0.01 --delta 10 --all_pairs)
+swba_cli_case(save_results_zip 2
+  REGEX "^swba ape: error: --save-results writes a directory of plain files \\(JSON, CSV, TUM\\), not evo's \\.zip: give a directory \\('[^']*/results'\\)"
+  ARGS ape ${_evo_ref}/gt_kf-slam_6D_demo.tum ${_evo_ref}/ekf_kf-slam_6D_demo.tum --save-results ${_out}/results.zip)
+swba_cli_case(evo_kitti_form 2 REGEX "^swba ape: error: evo's 'kitti' format is not read: convert the trajectories to TUM first"
+  ARGS ape kitti a.txt b.txt)
