@@ -2,9 +2,9 @@
 #include <swba/eval/evaluation.h>
 #include <swba/eval/ground_truth.h>
 
-#include <swba/core/file.h>
-
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -16,7 +16,9 @@ namespace
 bool is_tum_file(const std::string& path)
 {
 	if (path.size() > 4 && path.compare(path.size() - 4, 4, ".tum") == 0) return true;
-	std::ifstream f = open_input_file(path, std::ios::in, "ground truth");
+	std::error_code ec;
+	if (!std::filesystem::is_regular_file(path, ec)) return false;  // the reader names what it is
+	std::ifstream f(path);
 	for (std::string line; std::getline(f, line);)
 	{
 		const auto b = line.find_first_not_of(" \t\r");

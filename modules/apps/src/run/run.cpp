@@ -162,18 +162,7 @@ void add_association_quality(RunReport& report, const io::Rawlog& rawlog, const 
 	{
 		if (r.assigned_ids.empty() || r.failed) continue;
 		r.association = estimators::evaluate_association(r.assigned_ids, truth);
-		if (r.trajectory == "lagged") continue;
-		const auto& q = *r.association;
-		char buf[256];
-		std::snprintf(buf, sizeof buf,
-					  "%s: association %.2f %% correct (%zu of %zu associated readings right, %zu of %zu readings "
-					  "associated), %zu landmarks for %zu true, %zu duplicate, %zu spurious",
-					  r.label.c_str(), 100.0 * q.fraction_correct(), q.correct, q.associated, q.associated, q.readings,
-					  q.landmarks, q.true_landmarks, q.duplicates, q.spurious);
-		std::string note = buf;
-		if (r.name == "window" && r.reading_counts)
-			note += ", " + std::to_string(r.reading_counts->reassociated) + " re-associated in the window";
-		report.notes.push_back(note);
+		if (r.trajectory != "lagged") report.notes.push_back(format_association_note(r));
 	}
 }
 
@@ -251,6 +240,22 @@ RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
 	name_ekf_files(report, options.ekf_methods.size());
 	add_reading_notes(report);
 	return report;
+}
+
+std::string format_association_note(const RunRow& r)
+{
+	if (!r.association) return "";
+	const auto& q = *r.association;
+	char buf[256];
+	std::snprintf(buf, sizeof buf,
+				  "%s: association %.2f %% correct (%zu of %zu associated readings right, %zu of %zu readings "
+				  "associated), %zu landmarks for %zu true, %zu duplicate, %zu spurious",
+				  r.label.c_str(), 100.0 * q.fraction_correct(), q.correct, q.associated, q.associated, q.readings,
+				  q.landmarks, q.true_landmarks, q.duplicates, q.spurious);
+	std::string note = buf;
+	if (r.name == "window" && r.reading_counts)
+		note += ", " + std::to_string(r.reading_counts->reassociated) + " re-associated in the window";
+	return note;
 }
 
 bool run_interrupted(const RunReport& report)

@@ -189,6 +189,7 @@ RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptio
 		const JobSummary& j = jobs[m.job];
 		report.rows.push_back(run_row_from_json(m.entry, j.dir, j.path));
 		const RunRow& row = report.rows.back();
+		if (row.association && row.trajectory != "lagged") report.notes.push_back(format_association_note(row));
 		if (row.file.empty() || !fs::exists(j.dir + "/" + row.file)) continue;
 		copy_file(j.dir + "/" + row.file, dir + "/" + row.file, files);
 	}
