@@ -284,11 +284,11 @@ swba_cli_case(save_results_zip 2
   ARGS ape ${_evo_ref}/gt_kf-slam_6D_demo.tum ${_evo_ref}/ekf_kf-slam_6D_demo.tum --save-results ${_out}/results.zip)
 swba_cli_case(evo_kitti_form 2 REGEX "^swba ape: error: evo's 'kitti' format is not read: convert the trajectories to TUM first"
   ARGS ape kitti a.txt b.txt)
-# A new user's whole session (tests/apps/new_user_session.sh): every subcommand on the shipped data, then
+# A new user's whole walkthrough (tests/apps/new_user_walkthrough.sh): every subcommand on the shipped data, then
 # malformed inputs, each with doc/cli.md's exit code (0, 2 a bad command line, 1 a bad input or failure)
 # and the message naming what was wrong.
-add_test(NAME apps.cli.new_user_session
-  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/new_user_session.sh $<TARGET_FILE:swba> ${_out}/new_user_session
+add_test(NAME apps.cli.new_user_walkthrough
+  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/new_user_walkthrough.sh $<TARGET_FILE:swba> ${_out}/new_user_walkthrough
           ${SWBA_MRPT_DATASETS} ${CMAKE_SOURCE_DIR})
-set_tests_properties(apps.cli.new_user_session PROPERTIES PASS_REGULAR_EXPRESSION "OK: new-user session"
+set_tests_properties(apps.cli.new_user_walkthrough PROPERTIES PASS_REGULAR_EXPRESSION "OK: new-user walkthrough"
   FAIL_REGULAR_EXPRESSION "FAIL " TIMEOUT 300)

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# A new user's session: every subcommand on the shipped data, then the malformed inputs a newcomer
+# A new user's walkthrough: every subcommand on the shipped data, then the malformed inputs a newcomer
 # types, each with the exit code of doc/cli.md's convention (0 success; 2 a bad command line; 1 a bad
 # input file or a failure while running, and a run whose every estimator failed) and the message that
 # says what was wrong. Every check is listed; the script fails if any fails.
-#   new_user_session.sh <swba> <work dir> <mrpt datasets dir> <source dir>
+#   new_user_walkthrough.sh <swba> <work dir> <mrpt datasets dir> <source dir>
 set -u
 swba=$1 work=$2 mrpt=$3 src=$4
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
@@ -104,4 +104,4 @@ LC_ALL=C.UTF-8 check utf8_locale 2 "must be a number ≥ 0" -- monoba --noise -1
 LC_ALL=C check c_locale 2 'must be a number \\xe2\\x89\\xa5 0' -- monoba --noise -1
 
 echo "$checks checks, $failures failed"
-[ "$failures" = 0 ] && echo "OK: new-user session"
+[ "$failures" = 0 ] && echo "OK: new-user walkthrough"
