@@ -57,6 +57,10 @@ check simulate 0 "sim_seed1\.rawlog" -- simulate "$src/share/rawlogs/kf-slam_6D_
 check jobs 0 "sweep/jobs\.txt" -- jobs "$demo" --config short.ini --out sweep
 bash sweep/jobs.txt >/dev/null 2>&1
 check merge 0 "window W=5 +5 +online +0\.[0-9]{6}" -- merge sweep --no-plots
+# A sweep over a rawlog without landmark IDs keeps the association quality: merge prints it.
+check jobs_association 0 "sweep_da/jobs\.txt" -- jobs "$da" --config short.ini --out sweep_da
+bash sweep_da/jobs.txt >/dev/null 2>&1
+check merge_association 0 "note: [^ ]*: window W=5: association [0-9.]+ % correct" -- merge sweep_da --no-plots
 check nees 0 "running the 1 jobs of .* here, one after the other" ! "Run them with|parallel -j" -- \
 	nees --runs 1 --max-steps 20 --windows 5 --fej on --no-ekf --no-plots --out nees
 

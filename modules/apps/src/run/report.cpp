@@ -1,6 +1,7 @@
 // swba run: the comparison table, ape.txt / ape.csv / summary.json, TUM files and plots.
 #include "covariance_files.h"
 #include "output_dir.h"
+#include "summary_fields.h"
 #include "plots.h"
 
 #include <swba/apps/run.h>
@@ -72,17 +73,6 @@ const std::vector<StatsPart>& stats_parts()
 		{"rpe", "rpe_trans", eval::rpe_metric_title(PoseRelation::TranslationPart, 1, false) + not_aligned,
 		 &RunRow::rpe_trans, &RunRow::has_rpe}};
 	return parts;
-}
-
-/** The association counts of ape.csv and summary.json, in their order. */
-const std::vector<std::pair<const char*, std::size_t estimators::AssociationQuality::*>>& association_fields()
-{
-	using Q = estimators::AssociationQuality;
-	static const std::vector<std::pair<const char*, std::size_t Q::*>> f = {
-		{"readings", &Q::readings},	  {"associated", &Q::associated}, {"correct", &Q::correct},
-		{"landmarks", &Q::landmarks}, {"true_landmarks", &Q::true_landmarks}, {"duplicates", &Q::duplicates},
-		{"spurious", &Q::spurious}};
-	return f;
 }
 
 void write_text_file(const std::string& path, const std::string& text, RunReport& report)

@@ -1,6 +1,8 @@
 // Reading a job's summary.json back (see summary_json.h).
 #include "summary_json.h"
 
+#include "../run/summary_fields.h"
+
 #include <swba/core/file.h>
 
 #include <cmath>
@@ -66,13 +68,8 @@ bool present(const ordered_json& e, const char* key) { return e.contains(key) &&
 /** An "association" object of summary.json (its counts; the percentage is derived from them). */
 estimators::AssociationQuality association_quality(const ordered_json& a)
 {
-	using Q = estimators::AssociationQuality;
-	Q q;
-	const std::pair<const char*, std::size_t Q::*> fields[] = {
-		{"readings", &Q::readings},	  {"associated", &Q::associated}, {"correct", &Q::correct},
-		{"landmarks", &Q::landmarks}, {"true_landmarks", &Q::true_landmarks}, {"duplicates", &Q::duplicates},
-		{"spurious", &Q::spurious}};
-	for (const auto& [name, field] : fields) q.*field = a.at(name).get<std::size_t>();
+	estimators::AssociationQuality q;
+	for (const auto& [name, field] : association_fields()) q.*field = a.at(name).get<std::size_t>();
 	return q;
 }
 }  // namespace
