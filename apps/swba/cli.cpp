@@ -45,6 +45,7 @@ class OneLineOutput : public TCLAP::StdOutput
 {
    public:
 	bool failed = false;
+	std::string extra_argument_hint;  ///< said after "unexpected argument 'x'"
 	/** TCLAP's layout, in help_order. */
 	void usage(TCLAP::CmdLineInterface& c) override
 	{
@@ -73,8 +74,16 @@ class OneLineOutput : public TCLAP::StdOutput
 		for (const TCLAP::Arg* a : c.getArgList())
 			if (a->isRequired() && !a->isSet()) missing += (missing.empty() ? "" : ", ") + a->getName();
 		std::cerr << c.getProgramName() << ": error: ";
+		const std::string tclap_id = "Argument: ";
 		if (!missing.empty() && e.error().find("required arguments missing") != std::string::npos)
 			std::cerr << "missing argument(s): " << missing;
+		else if (e.error().find("Couldn't find match for argument") != std::string::npos &&
+				 e.argId().compare(0, tclap_id.size(), tclap_id) == 0)
+		{
+			// A word no positional argument takes: name it, and what to do instead when the command knows.
+			std::cerr << "unexpected argument '" << e.argId().substr(tclap_id.size()) << "'";
+			if (!extra_argument_hint.empty()) std::cerr << ": " << extra_argument_hint;
+		}
 		else
 		{
 			std::cerr << e.error();
@@ -113,8 +122,8 @@ bool is_switch_run(TCLAP::CmdLine& cmd, const std::string& option)
 	return true;
 }
 
-/** argv with "--name=value" split in two; an unknown option, or a value given to a switch, is an
- * error message instead. An argument after a value-taking option is its value even if it starts
+/** argv with "--name=value" split in two and evo's "--name_with_underscores" read as
+ * "--name-with-underscores"; an unknown option, or a value given to a switch, is an error message instead. An argument after a value-taking option is its value even if it starts
  * with '-' (a negative offset); after "--" nothing is an option. */
 std::string normalise(TCLAP::CmdLine& cmd, int argc, char** argv, std::vector<std::string>& out)
 {
@@ -142,6 +151,13 @@ std::string normalise(TCLAP::CmdLine& cmd, int argc, char** argv, std::vector<st
 			a.resize(eq);
 		}
 		const TCLAP::Arg* arg = find_option(cmd, a);
+		if (!arg && a.compare(0, 2, "--") == 0 && a.find('_') != std::string::npos)
+		{
+			// evo's spelling of the same option (--t_max_diff for --t-max-diff).
+			std::string dashed = a;
+			std::replace(dashed.begin() + 2, dashed.end(), '_', '-');
+			if ((arg = find_option(cmd, dashed))) a = dashed;
+		}
 		if (!arg && a.size() > 2 && a[1] != '-' && is_switch_run(cmd, a))
 		{
 			out.push_back(a);
@@ -174,7 +190,8 @@ std::string share_dir()
 	return SWBA_SHARE_DIR;
 }
 
-std::optional<int> parse_command_line(TCLAP::CmdLine& cmd, int argc, char** argv)
+std::optional<int> parse_command_line(TCLAP::CmdLine& cmd, int argc, char** argv,
+									  const std::string& extra_argument_hint)
 {
 	std::vector<std::string> args;
 	const std::string error = normalise(cmd, argc, argv, args);
@@ -186,6 +203,7 @@ std::optional<int> parse_command_line(TCLAP::CmdLine& cmd, int argc, char** argv
 	std::vector<const char*> ptrs;
 	for (const auto& a : args) ptrs.push_back(a.c_str());
 	OneLineOutput out;
+	out.extra_argument_hint = extra_argument_hint;
 	// MRPT's bundled TCLAP forgets, without deleting it, the output object its CmdLine allocated when
 	// another one is set (16 bytes per command line, LeakSanitizer's only report): free it here.
 	const std::unique_ptr<TCLAP::CmdLineOutput> tclap_default_output(cmd.getOutput());

@@ -10,8 +10,10 @@
 namespace swba::app
 {
 /** Parses argv; returns std::nullopt when the command should go on, or the exit code
- * to return (0 after --help/--version, 2 after a parse error). */
-std::optional<int> parse_command_line(TCLAP::CmdLine& cmd, int argc, char** argv);
+ * to return (0 after --help/--version, 2 after a parse error). An argument no positional takes is
+ * named ("unexpected argument 'x'"), followed by `extra_argument_hint` when given. */
+std::optional<int> parse_command_line(TCLAP::CmdLine& cmd, int argc, char** argv,
+									  const std::string& extra_argument_hint = "");
 
 /** swba's data directory (config/, rawlogs/, data/): <prefix>/share/swba for an installed swba (found
  * from the executable's own path), else the source tree's share/. */
@@ -35,7 +37,10 @@ inline TCLAP::ValueArg<int> max_iterations_arg(TCLAP::CmdLine& cmd, int default_
 								false, default_value, "K", cmd);
 }
 
-/** Thrown by commands for bad user input; main prints "swba <cmd>: error: <what>" and exits 1. */
+/** Thrown by commands for a bad command line (an option's value out of range, a missing or superfluous
+ * argument, options that exclude each other); main prints "swba <cmd>: error: <what> (see --help)" and
+ * exits 2, as for TCLAP's own parse errors. A bad input file or a failure while running is any other
+ * exception: exit 1. */
 struct UsageError : std::runtime_error
 {
 	using std::runtime_error::runtime_error;

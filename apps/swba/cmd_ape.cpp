@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "cli.h"
 #include "command.h"
@@ -90,6 +92,10 @@ struct MetricCommandLine
 			throw UsageError("--t-max-diff must be a finite number >= 0");
 		if (!std::isfinite(offset_arg.getValue())) throw UsageError("--t-offset must be finite");
 		if (relative && delta_arg.getValue() < 1) throw UsageError("--delta must be >= 1");
+		const std::string& save = save_arg.getValue();
+		if (save.size() >= 4 && save.compare(save.size() - 4, 4, ".zip") == 0)
+			throw UsageError("--save-results writes a directory of plain files (JSON, CSV, TUM), not evo's .zip: give a "
+							 "directory ('" + save.substr(0, save.size() - 4) + "'), and zip it if needed");
 		apps::TrajectoryMetricOptions c;
 		c.relative = relative;
 		c.ref_path = ref_arg.getValue();
@@ -115,11 +121,29 @@ struct MetricCommandLine
 };
 }  // namespace
 
+namespace
+{
+/** evo's form `evo_ape tum REF EST`: a leading format word. "tum" is dropped (TUM is what swba reads);
+ * evo's other formats are refused with what to do. Returns the arguments to parse. */
+std::vector<char*> without_evo_format_word(int argc, char** argv)
+{
+	std::vector<char*> args(argv, argv + argc);
+	if (argc < 2) return args;
+	const std::string first = argv[1];
+	if (first == "tum" && argc >= 4) args.erase(args.begin() + 1);
+	if (first == "kitti" || first == "euroc" || first == "bag" || first == "bag2")
+		throw UsageError("evo's '" + first + "' format is not read: convert the trajectories to TUM first (evo_traj " +
+						 first + " ... --save_as_tum), then give them as REF EST");
+	return args;
+}
+}  // namespace
+
 /** Shared by `swba ape` and `swba rpe` (cmd_rpe.cpp registers the latter). */
 int run_trajectory_metric_command(bool relative, int argc, char** argv)
 {
 	MetricCommandLine cl(relative);
-	if (auto rc = parse_command_line(cl.cmd, argc, argv)) return *rc;
+	std::vector<char*> args = without_evo_format_word(argc, argv);
+	if (auto rc = parse_command_line(cl.cmd, static_cast<int>(args.size()), args.data())) return *rc;
 	apps::run_trajectory_metric(cl.options(), std::cout, std::cerr);
 	return 0;
 }

@@ -52,9 +52,9 @@ int run_jobs(int argc, char** argv)
 		cmd.add(*a);
 	if (auto rc = parse_command_line(cmd, argc, argv)) return *rc;
 	apps::SweepOptions o;
+	if (config.isSet()) apps::load_run_config(config.getValue(), o.run);  // a bad file: exit 1
 	try
 	{
-		if (config.isSet()) apps::load_run_config(config.getValue(), o.run);
 		if (windows.isSet()) o.run.windows = apps::parse_window_list(windows.getValue(), "--windows");
 		if (seeds.isSet()) o.seeds = apps::parse_seed_list(seeds.getValue());
 		o.rawlogs = rawlogs.getValue();
@@ -65,8 +65,7 @@ int run_jobs(int argc, char** argv)
 	}
 	catch (const std::invalid_argument& e)
 	{
-		std::cerr << "swba jobs: error: " << e.what() << " (see --help)\n";
-		return 2;
+		throw UsageError(e.what());
 	}
 	const apps::SweepPlan plan = apps::plan_sweep(o);
 	apps::write_sweep(o, plan, std::cerr);

@@ -54,9 +54,9 @@ int run_nees(int argc, char** argv)
 		cmd.add(*a);
 	if (auto rc = parse_command_line(cmd, argc, argv)) return *rc;
 	apps::NeesOptions o;
+	if (config.isSet()) apps::load_run_config(config.getValue(), o.run);  // a bad file: exit 1
 	try
 	{
-		if (config.isSet()) apps::load_run_config(config.getValue(), o.run);
 		o.run.plots = o.run.progress = false;
 		if (windows.isSet()) o.run.windows = apps::parse_window_list(windows.getValue(), "--windows");
 		if (fej.isSet()) o.run.fej = apps::parse_fej_list(fej.getValue());
@@ -79,8 +79,7 @@ int run_nees(int argc, char** argv)
 	}
 	catch (const std::invalid_argument& e)
 	{
-		std::cerr << "swba nees: error: " << e.what() << " (see --help)\n";
-		return 2;
+		throw UsageError(e.what());
 	}
 	return apps::run_nees_app(o, std::cout, std::cerr);
 }

@@ -190,12 +190,14 @@ int run_run(int argc, char** argv)
 {
 	install_stop_handlers();  // first: a signal during the rawlog's reading is honoured too
 	RunCommandLine cl;
-	if (auto rc = parse_command_line(cl.cmd, argc, argv)) return *rc;
+	if (auto rc = parse_command_line(cl.cmd, argc, argv, "one rawlog per run; for several, see swba jobs"))
+		return *rc;
 	apps::RunOptions o;
-	if (cl.config.isSet()) apps::load_run_config(cl.config.getValue(), o);
+	if (cl.config.isSet()) apps::load_run_config(cl.config.getValue(), o);  // a bad file: exit 1
 	try
 	{
 		cl.apply(o);
+		o.validate();  // options that exclude each other (e.g. --policy map with --gauge free)
 	}
 	catch (const std::invalid_argument& e)
 	{
@@ -214,9 +216,9 @@ int run_run(int argc, char** argv)
 		std::cerr << "swba run: error: every estimator failed (see the table)\n";
 		return 1;
 	}
-	if (apps::some_estimator_diverged(report))
+	if (apps::some_estimator_failed_or_diverged(report))
 	{
-		std::cerr << "swba run: error: an estimator diverged (see the notes)\n";
+		std::cerr << "swba run: error: an estimator failed or diverged (see the table and the notes)\n";
 		return 3;
 	}
 	return 0;

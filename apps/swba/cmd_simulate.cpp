@@ -44,8 +44,7 @@ int run_simulate(int argc, char** argv)
 	}
 	catch (const std::invalid_argument& e)
 	{
-		std::cerr << "swba simulate: error: " << e.what() << " (see --help)\n";
-		return 2;
+		throw UsageError(e.what());
 	}
 	const apps::SimulatedRawlog r = apps::simulate_rawlog(o, std::cerr);
 	std::cout << r.rawlog << "\n";

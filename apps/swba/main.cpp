@@ -61,11 +61,18 @@ int main(int argc, char** argv)
 		if (!help) swba::active_simd_level();  // a bad SWBA_SIMD fails here, not in the middle of a run
 		return it->second.run(static_cast<int>(args.size()), args.data());
 	}
+	catch (const UsageError& e)
+	{
+		std::cerr << prog << ": error: " << swba::io::mrpt_exception_summary(e.what(), swba::io::locale_is_utf8())
+				  << " (see --help)\n";
+		return 2;
+	}
 	catch (const std::exception& e)
 	{
 		// One line, printable: an MRPT exception carries a call stack with addresses, and a message may
 		// quote bytes read from a file.
-		std::cerr << prog << ": error: " << swba::io::mrpt_exception_summary(e.what()) << "\n";
+		std::cerr << prog << ": error: " << swba::io::mrpt_exception_summary(e.what(), swba::io::locale_is_utf8())
+				  << "\n";
 		return 1;
 	}
 }

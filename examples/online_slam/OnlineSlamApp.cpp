@@ -1,16 +1,20 @@
 #include "OnlineSlamApp.h"
 
-#include <swba/apps/run_options.h>
+#include <swba/core/file.h>
+#include <swba/core/ini.h>
 #include <swba/eval/trajectory.h>
+#include <swba/io/rawlog.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/obs/CRawlog.h>
-#include <mrpt/serialization/CArchive.h>
-#include <mrpt/system/filesystem.h>
+#include <mrpt/config/CConfigFileMemory.h>
 
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -37,6 +41,44 @@ void print_pose(const char* what, double t, const mrpt::poses::CPose3D& p)
 	std::cout.flush();
 }
 
+/** The window's options from swba run's INI (share/config/swba_run.ini documents every key): the keys
+ * of [window], [solver], [sensor] and [odometry] that the file sets, read through the key tables each
+ * options struct declares (swba/core/ini.h). swba run's own keys ([run], the sweep's sizes, policy and
+ * fej, [ekf]) are not the window's and are left to it; the first of [window] sizes is the window. */
+void load_window_options(const std::string& path, swba::estimators::SlidingWindowOptions& o)
+{
+	using swba::estimators::SlidingWindowOptions;
+	const mrpt::config::CConfigFileMemory ini(swba::read_text_file(path, "config"));  // names a missing or binary file
+	swba::IniKeys<SlidingWindowOptions> keys = SlidingWindowOptions::ini_keys("window");
+	swba::append_keys(keys, swba::SolverOptions::ini_keys("solver"), [](auto& w) -> auto& { return w.solver; });
+	swba::append_keys(keys, swba::estimators::SensorNoiseOptions::ini_keys("sensor"),
+					  [](auto& w) -> auto& { return w.sensor; });
+	swba::append_keys(keys, swba::io::OdometryInformationOptions::ini_keys("odometry"),
+					  [](auto& w) -> auto& { return w.odometry; });
+	for (const auto& k : keys)
+	{
+		const std::string value = ini.read_string(k.section, k.key, "");
+		if (value.empty()) continue;
+		try
+		{
+			k.set(value, o);
+		}
+		catch (const std::invalid_argument& e)
+		{
+			throw std::runtime_error("config '" + path + "': [" + k.section + "] " + k.key + ": " + e.what());
+		}
+	}
+	const std::string sizes = ini.read_string("window", "sizes", "");
+	if (!sizes.empty()) o.window_size = static_cast<int>(swba::ini::parse_integer(sizes.substr(0, sizes.find(','))));
+}
+
+/** The largest standard deviation of a landmark's position (m): the square root of the largest
+ * eigenvalue of its marginal covariance. */
+double largest_std(const Eigen::Matrix3d& covariance)
+{
+	return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvalues().maxCoeff()));
+}
+
 /** The poses estimated after a step (t >= 1): the initial pose (t = 0) is not an estimate. */
 swba::eval::Trajectory after_steps(const swba::eval::Trajectory& t)
 {
@@ -55,9 +97,9 @@ bool OnlineSlamApp::initialize(int argc, char** argv)
 		"CActionCollection/CSensoryFrame pair at a time, as an online application would.",
 		' ', "0.1.0");
 	TCLAP::UnlabeledValueArg<std::string> rawlog_arg("RAWLOG", "MRPT rawlog", true, "", "RAWLOG", cmd);
-	TCLAP::ValueArg<int> window_arg("", "window", "poses in the window, >= 2. (Default: 10, or the first of [run] windows in --config)",
+	TCLAP::ValueArg<int> window_arg("", "window", "poses in the window, >= 2. (Default: 10, or the first of [window] sizes in --config)",
 									false, 10, "W", cmd);
-	TCLAP::ValueArg<std::string> config_arg("", "config", "swba run's INI file ([window] [solver] [sensor] [odometry] [run] sections)",
+	TCLAP::ValueArg<std::string> config_arg("", "config", "swba run's INI file: its [window] [solver] [sensor] [odometry] keys are read, the others ignored",
 											false, "", "INI", cmd);
 	TCLAP::ValueArg<int> threads_arg("", "threads", "solver threads. (Default: 1, or [solver] threads in --config)", false, 1, "N", cmd);
 	TCLAP::ValueArg<int> max_steps_arg("", "max-steps", "stop after N steps (0 = all). (Default: 0)", false, 0, "N", cmd);
@@ -84,10 +126,9 @@ bool OnlineSlamApp::initialize(int argc, char** argv)
 	max_steps = static_cast<std::size_t>(max_steps_arg.getValue());
 	print_every = static_cast<std::size_t>(print_every_arg.getValue());
 
-	swba::apps::RunOptions run;  // swba run's options: the same defaults and INI keys
-	if (config_arg.isSet()) swba::apps::load_run_config(config_arg.getValue(), run);
-	options = run.window;
-	options.window_size = config_arg.isSet() && !run.windows.empty() ? run.windows.front() : 10;
+	options = swba::estimators::SlidingWindowOptions{};  // swba run's defaults
+	options.window_size = 10;
+	if (config_arg.isSet()) load_window_options(config_arg.getValue(), options);
 	if (window_arg.isSet()) options.window_size = window_arg.getValue();
 	if (threads_arg.isSet())
 	{
@@ -100,33 +141,26 @@ bool OnlineSlamApp::initialize(int argc, char** argv)
 
 void OnlineSlamApp::run()
 {
-	if (!mrpt::system::fileExists(rawlog_path)) throw std::runtime_error("rawlog '" + rawlog_path + "': no such file");
-	mrpt::io::CFileGZInputStream file;
-	std::string error;
-	if (!file.open(rawlog_path, error)) throw std::runtime_error("rawlog '" + rawlog_path + "': cannot open: " + error);
-	auto archive = mrpt::serialization::archiveFrom(file);
+	// A robot hands the pairs over as they arrive; here they come from the file, read and checked by
+	// swba::io::read_rawlog (a truncated or corrupt rawlog is an error naming the entry, where MRPT's
+	// CRawlog::readActionObservationPair would just stop early). The readings need no landmark ID: the
+	// window associates those without one (SlidingWindowOptions::association, Auto by default).
+	swba::io::RawlogReaderOptions reader;
+	reader.max_steps = max_steps;
+	reader.require_landmark_ids = false;
+	const swba::io::Rawlog rawlog = swba::io::read_rawlog(rawlog_path, reader);
 
-	swba::estimators::MrptSlidingWindow slam(options);
-	mrpt::obs::CActionCollection::Ptr actions;
-	mrpt::obs::CSensoryFrame::Ptr frame;
-	std::size_t entry = 0;
+	swba::estimators::MrptSlidingWindow slam(options, swba::estimators::MrptStepConverterOptions{false});
 	double iterations = 0, seconds = 0;
 	// The online loop: one (odometry, observations) pair at a time.
-	while ((!max_steps || slam.converter().steps() < max_steps) &&
-		   mrpt::obs::CRawlog::readActionObservationPair(archive, actions, frame, entry))
+	for (const swba::io::RawlogStep& step : rawlog.steps)
 	{
-		const swba::estimators::StepSummary& s = slam.process(actions, frame);
+		const swba::estimators::StepSummary& s = slam.process(step.actions, step.observations);
 		iterations += s.iterations;
 		seconds += s.seconds;
-		if (print_every && (s.step + 1) % print_every == 0)
-		{
-			const mrpt::poses::CPose3D p = slam.current_pose();
-			std::printf("step %4zu: x=%8.3f y=%8.3f z=%7.3f | window %d poses, %d landmarks, prior rank %d, %d LM it.\n",
-						s.step, p.x(), p.y(), p.z(), s.window_poses, s.landmarks, s.prior_rank, s.iterations);
-		}
+		if (print_every && (s.step + 1) % print_every == 0) print_step(slam, s);
 	}
 	const std::size_t steps = slam.converter().steps();
-	if (steps == 0) throw std::runtime_error("rawlog '" + rawlog_path + "': no action/sensory-frame pair");
 	slam.finish();
 
 	const auto window = slam.window_poses();
@@ -135,8 +169,37 @@ void OnlineSlamApp::run()
 				seconds * 1e3 / static_cast<double>(steps));
 	if (!window.empty()) print_pose("oldest window pose", window.front().first, window.front().second);
 	print_pose("final pose", static_cast<double>(steps), slam.current_pose());
+	print_landmarks(slam);
 
 	const swba::eval::Trajectory& online = slam.estimator().online_trajectory();
 	if (!online_tum.empty()) swba::eval::write_tum(online_tum, after_steps(online));
 	if (!lagged_tum.empty()) swba::eval::write_tum(lagged_tum, after_steps(slam.estimator().lagged_trajectory()));
+}
+
+void OnlineSlamApp::print_step(const swba::estimators::MrptSlidingWindow& slam, const swba::estimators::StepSummary& s)
+{
+	const mrpt::poses::CPose3D p = slam.current_pose();
+	std::printf("step %4zu: x=%8.3f y=%8.3f z=%7.3f | window %d poses, %d landmarks, prior rank %d, %d LM it.\n", s.step,
+				p.x(), p.y(), p.z(), s.window_poses, s.landmarks, s.prior_rank, s.iterations);
+	// The association of this step's readings: reading i was given landmark ids[i].
+	const std::vector<std::int32_t> ids = slam.assigned_ids().back();
+	std::printf("           readings -> landmarks:");
+	for (std::size_t i = 0; i < ids.size(); i++) std::printf(" %zu->%d", i, ids[i]);
+	std::printf("\n");
+}
+
+void OnlineSlamApp::print_landmarks(swba::estimators::MrptSlidingWindow& slam)
+{
+	// Each landmark in the state with its marginal covariance (one factorisation of the window's system).
+	const std::map<std::int32_t, swba::estimators::LandmarkEstimate> map = slam.landmark_estimates();
+	double worst = 0;
+	std::int32_t worst_id = -1;
+	for (const auto& [id, l] : map)
+		if (largest_std(l.covariance) > worst)
+		{
+			worst = largest_std(l.covariance);
+			worst_id = id;
+		}
+	std::printf("landmark covariances: %zu landmarks, the least certain is %d (largest std %.4f m)\n", map.size(),
+				worst_id, worst);
 }

@@ -138,7 +138,7 @@ TEST(RunConfig, BadValuesNameTheKey)
 	for (const Case& c : std::vector<Case>{
 			 {"[solver]\nmax_iterations = 10x\n", "[solver] max_iterations: '10x' is not an integer"},
 			 {"[solver]\nmax_iterations = 0\n", "[solver] max_iterations: '0' must be an integer >= 1"},
-			 {"[window]\nsizes = 1,5\n", "[window] sizes: sizes: window size must be >= 2, got 1"},
+			 {"[window]\nsizes = 1,5\n", "[window] sizes: sizes: window size must be in [2, 1000000], got 1"},
 			 {"[window]\npolicy = fast\n", "[window] policy: unknown policy 'fast'"},
 			 {"[window]\nfej = maybe\n", "[window] fej: unknown fej value 'maybe'"},
 			 {"[window]\ngauge = loose\n", "[window] gauge: unknown gauge 'loose'"},
@@ -201,7 +201,17 @@ TEST(RunConfig, ListParsing)
 	}
 	catch (const std::invalid_argument& e)
 	{
-		EXPECT_STREQ(e.what(), "--windows: window size must be >= 2, got 1");
+		EXPECT_STREQ(e.what(), "--windows: window size must be in [2, 1000000], got 1");
+	}
+	// Too large: the message names the upper end, not the lower one.
+	try
+	{
+		parse_window_list("10000000", "--windows");
+		FAIL();
+	}
+	catch (const std::invalid_argument& e)
+	{
+		EXPECT_STREQ(e.what(), "--windows: window size must be in [2, 1000000], got 10000000");
 	}
 	EXPECT_EQ(parse_policy_list("both").size(), 2u);
 	EXPECT_EQ(parse_policy_list("constant-time"), std::vector<LandmarkPolicy>{LandmarkPolicy::ConstantTime});

@@ -203,7 +203,7 @@ TEST(RunSummaryJson, ShapeOfTheIssueExample)
 	ASSERT_EQ(j["estimators"].size(), 4u);
 	const std::vector<std::string> stats = {"rmse", "mean", "median", "max", "min", "sse", "std"};
 	const std::vector<std::string> row_keys = {"name", "label", "window", "trajectory", "policy", "fej", "method", "file",
-											   "poses", "ape_trans", "ape_full", "seconds", "ms_per_step",
+											   "poses", "ape_trans", "ape_full", "ape_rot", "rpe_trans", "association", "seconds", "ms_per_step",
 											   "covariance_seconds", "steps_processed", "readings", "failed", "failed_step", "failure", "interrupted"};
 	for (std::size_t i = 0; i < rep.rows.size(); i++)
 	{
@@ -292,6 +292,28 @@ TEST(RunTable, OneRowPerEstimatorWithFailures)
 	EXPECT_EQ(lines[7].rfind("batch", 0), 0u);
 }
 
+TEST(RunTable, ColumnsStayAlignedWithALargeWindow)
+{
+	RunReport rep = sample_report();
+	rep.rows[1].window = rep.rows[2].window = 1000000;
+	const std::string table = swba::apps::format_comparison_table(rep);
+	std::vector<std::string> lines;
+	std::string line;
+	std::istringstream in(table);
+	while (std::getline(in, line)) lines.push_back(line);
+	ASSERT_GE(lines.size(), 8u) << table;
+	// The W values end where the header's "W" does, and every trajectory starts under "trajectory".
+	const std::size_t w_end = lines[2].find(" W ") + 2, traj = lines[2].find("trajectory");
+	for (std::size_t i = 4; i < lines.size(); i++)
+	{
+		EXPECT_EQ(lines[i][w_end - 1], i == 4 || i == 7 ? '-' : '0') << table;
+		EXPECT_EQ(lines[i][w_end], ' ') << table;
+		EXPECT_NE(lines[i][traj], ' ') << table;
+		EXPECT_EQ(lines[i][traj - 1], ' ') << table;
+	}
+	EXPECT_EQ(lines[3].size(), lines[2].size());
+}
+
 TEST(RunApeText, EvoBlocksPerEstimator)
 {
 	const RunReport rep = sample_report();
@@ -320,7 +342,7 @@ TEST(RunApeCsv, HeaderAndRows)
 	EXPECT_EQ(header.rfind("label,name,window,trajectory,policy,fej,method,failed,failed_step,poses,trans_rmse,", 0), 0u)
 		<< header;
 	std::size_t columns = std::count(header.begin(), header.end(), ',') + 1;
-	EXPECT_EQ(columns, 10u + 14u + 2u);
+	EXPECT_EQ(columns, 10u + 4 * 7u + 8u + 2u);  // 4 statistics blocks, the association, the times
 	std::string row;
 	std::size_t n = 0;
 	while (std::getline(in, row))
@@ -357,4 +379,51 @@ TEST(RunSummaryJson, ReadingCountsPerEstimator)
 	EXPECT_EQ(with["readings"]["excluded"], 6);
 	EXPECT_EQ(with["readings"]["down_weighted"], 3);
 	EXPECT_TRUE(j["estimators"][0]["readings"].is_null());
+}
+
+TEST(RunSummaryJson, AssociationQualityRotationApeAndRpeAreWritten)
+{
+	RunReport rep = sample_report();
+	RunRow& w = rep.rows[1];
+	swba::estimators::AssociationQuality q;
+	q.readings = 200;
+	q.associated = 190;
+	q.correct = 171;
+	q.landmarks = 21;
+	q.true_landmarks = 20;
+	q.duplicates = 1;
+	q.spurious = 2;
+	w.association = q;
+	w.ape_rot.rmse = 0.25;
+	w.has_rpe = true;
+	w.rpe_trans.rmse = 0.03;
+	const Json j = Json::parse(swba::apps::format_summary_json(rep));
+	const Json& e = j["estimators"][1];
+	EXPECT_DOUBLE_EQ(e["association"]["correct_percent"].get<double>(), 90.0);
+	EXPECT_EQ(e["association"]["duplicates"], 1);
+	EXPECT_EQ(e["association"]["spurious"], 2);
+	EXPECT_DOUBLE_EQ(e["ape_rot"]["rmse"].get<double>(), 0.25);
+	EXPECT_DOUBLE_EQ(e["rpe_trans"]["rmse"].get<double>(), 0.03);
+	EXPECT_TRUE(j["estimators"][0]["association"].is_null());  // the failed EKF: none
+	// ape.csv: the same figures in the named columns.
+	std::istringstream csv(swba::apps::format_ape_csv(rep));
+	std::string header, line;
+	std::getline(csv, header);
+	std::getline(csv, line);
+	std::getline(csv, line);  // the window row
+	auto column = [](const std::string& text, const std::string& name_or_empty, std::size_t index) {
+		std::vector<std::string> cells;
+		std::stringstream ss(text);
+		for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+		if (name_or_empty.empty()) return cells.at(index);
+		return std::to_string(std::find(cells.begin(), cells.end(), name_or_empty) - cells.begin());
+	};
+	for (const auto& [name, value] : std::vector<std::pair<std::string, std::string>>{
+			 {"association_correct_percent", "90"}, {"association_duplicates", "1"}, {"association_spurious", "2"},
+			 {"rot_rmse", "0.25"}, {"rpe_rmse", "0.03"}})
+		EXPECT_EQ(column(line, "", std::stoul(column(header, name, 0))), value) << name << "\n" << header << "\n" << line;
+	// The table shows the rotation APE and the RPE.
+	const std::string table = swba::apps::format_comparison_table(rep);
+	EXPECT_NE(table.find("rot rmse   rpe rmse"), std::string::npos) << table;
+	EXPECT_NE(table.find("0.250000   0.030000"), std::string::npos) << table;
 }

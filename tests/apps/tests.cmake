@@ -47,8 +47,8 @@ swba_run_case(command_line_overrides_config 0 REGEX "\\(20 steps\\).*\nwindow W=
 swba_run_case(help 0 REGEX "--windows.*--no-ekf.*--no-batch.*--causal.*--ekf-method.*--policy.*--fej.*--landmarks.*--gauge.*--association.*--sensor-std-range.*--max-steps.*--threads.*--out"
   ARGS --help)
 
-# Bad input: one line naming the file/option, exit != 0.
-swba_run_case(window_1 1 REGEX "swba run: error: --windows: window size must be >= 2, got 1\n"
+# Bad input: one line naming the file/option; exit 2 for a bad command line, 1 for a bad input file.
+swba_run_case(window_1 2 REGEX "swba run: error: --windows: window size must be in \\[2, 1000000\\], got 1 \\(see --help\\)\n"
   ARGS --windows 5,1 --max-steps 10 --out ${_out}/window_1)
 swba_run_case(missing_rawlog 1 REGEX "swba run: error: rawlog '/nonexistent/none.rawlog': file does not exist"
   ARGS /nonexistent/none.rawlog --out ${_out}/missing_rawlog)
@@ -59,15 +59,15 @@ swba_run_case(gt_too_short 1
   ARGS ${_demo} --gt ${_data}/gt_30_rows.txt --max-steps 60 --out ${_out}/gt_too_short)
 swba_run_case(missing_gt 1 REGEX "swba run: error: [^\n]*/nonexistent/gt.txt"
   ARGS ${_demo} --gt /nonexistent/gt.txt --max-steps 10 --out ${_out}/missing_gt)
-swba_run_case(map_free_gauge 1 REGEX "swba run: error: the map landmark policy needs the fixed or the prior gauge"
+swba_run_case(map_free_gauge 2 REGEX "swba run: error: the map landmark policy needs the fixed or the prior gauge"
   ARGS --policy slam,map --gauge free --out ${_out}/map_free_gauge)
-swba_run_case(bad_policy 1 REGEX "swba run: error: unknown policy 'fast' \\(expected slam, constant-time, map, a comma-separated list of them, both or all\\)"
+swba_run_case(bad_policy 2 REGEX "swba run: error: unknown policy 'fast' \\(expected slam, constant-time, map, a comma-separated list of them, both or all\\)"
   ARGS --policy fast --out ${_out}/bad_policy)
-swba_run_case(bad_fej 1 REGEX "swba run: error: unknown fej value 'sometimes'" ARGS --fej sometimes --out ${_out}/bad_fej)
-swba_run_case(bad_gauge 1 REGEX "swba run: error: unknown gauge 'loose'" ARGS --gauge loose --out ${_out}/bad_gauge)
-swba_run_case(bad_landmarks 1 REGEX "swba run: error: unknown landmark parameteri[sz]ation 'uvw'" ARGS --landmarks uvw --out ${_out}/bad_landmarks)
-swba_run_case(bad_ekf_method 1 REGEX "swba run: error: unknown EKF method 'kfUKF'" ARGS --ekf-method kfUKF --out ${_out}/bad_ekf_method)
-swba_run_case(bad_sensor_std 1 REGEX "swba run: error: --sensor-std-range must be a number > 0" ARGS --sensor-std-range 0 --out ${_out}/bad_sensor_std)
+swba_run_case(bad_fej 2 REGEX "swba run: error: unknown fej value 'sometimes'" ARGS --fej sometimes --out ${_out}/bad_fej)
+swba_run_case(bad_gauge 2 REGEX "swba run: error: unknown gauge 'loose'" ARGS --gauge loose --out ${_out}/bad_gauge)
+swba_run_case(bad_landmarks 2 REGEX "swba run: error: unknown landmark parameteri[sz]ation 'uvw'" ARGS --landmarks uvw --out ${_out}/bad_landmarks)
+swba_run_case(bad_ekf_method 2 REGEX "swba run: error: unknown EKF method 'kfUKF'" ARGS --ekf-method kfUKF --out ${_out}/bad_ekf_method)
+swba_run_case(bad_sensor_std 2 REGEX "swba run: error: --sensor-std-range must be a number > 0" ARGS --sensor-std-range 0 --out ${_out}/bad_sensor_std)
 swba_run_case(misspelt_config_key 1
   REGEX "swba run: error: config '[^']*misspelt_key.ini': unknown key 'size' in section \\[window\\] \\(known keys: sizes, "
   ARGS --config ${_data}/misspelt_key.ini --out ${_out}/misspelt_config_key)
@@ -77,7 +77,7 @@ swba_run_case(missing_config 1 REGEX "swba run: error: config '/nonexistent/x.in
 # MRPT's EKF diverges and throws on kf-slam_6D_demo_noncentered: a row with the step and the message,
 # the other estimators still run, exit 0.
 swba_run_case(ekf_failure_is_a_row 0
-  REGEX "\nekf kfEKFAlaDavison +- +online +- +- +- +- +- +[0-9.]+  FAILED at step [0-9]+: [^\n]*quaternion[^\n]*\nwindow W=2 +2 +online +0\\.[0-9]"
+  REGEX "\nekf kfEKFAlaDavison +- +online +- +- +- +- +- +- +- +[0-9.]+  FAILED at step [0-9]+: [^\n]*quaternion[^\n]*\nwindow W=2 +2 +online +0\\.[0-9]"
   FILES "ekf.tum|window_2.tum|summary.json"
   JSON 100 3
   ARGS ${SWBA_MRPT_DATASETS}/kf-slam_6D_demo_noncentered.rawlog --ekf-method kfEKFAlaDavison --windows 2 --no-batch
@@ -262,3 +262,33 @@ add_test(NAME runapp.e2e.simd_unknown
   COMMAND ${CMAKE_COMMAND} "-DCMD=${CMAKE_COMMAND}|-E|env|SWBA_SIMD=sse9|$<TARGET_FILE:swba>|run|--max-steps|5|--out|${_out}/simd_unknown"
           -DEXPECT_RC=1 "-DREGEX=^swba run: error: unknown SWBA_SIMD level 'sse9' \\(expected baseline, avx2 or avx512\\)\n$"
           -DCLEAN_DIR=${_out}/simd_unknown -P ${_check})
+# A reused output directory: the earlier run's files are removed, never mixed with this run's.
+add_test(NAME runapp.e2e.reused_out_dir
+  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/reused_out_dir.sh $<TARGET_FILE:swba> ${_out}/reused_out_dir)
+set_tests_properties(runapp.e2e.reused_out_dir PROPERTIES PASS_REGULAR_EXPRESSION "OK: reused" TIMEOUT 120)
+
+# evo users' inputs (doc/evaluation.md, "Coming from evo"): a TUM ground truth for swba run (the same
+# figures as MRPT's path: the evo reference gt.tum holds its rows), evo's `ape tum REF EST` form and its
+# underscore spellings; --save-results NAME.zip is refused with what to give instead; evo's other formats
+# are named.
+set(_evo_ref ${SWBA_DATA_DIR}/evo_reference)
+swba_run_case(gt_tum 0 REGEX "\nwindow W=5 +5 +online +0\\.009417 +0\\.008993 +0\\.008487 +0\\.015943 +0\\.009965 "
+  ARGS ${_demo} --gt ${_evo_ref}/gt_kf-slam_6D_demo.tum --max-steps 60 --windows 5 --no-ekf --no-batch --no-plots
+       --out ${_out}/gt_tum)
+swba_cli_case(evo_tum_form 0 REGEX "APE w.r.t. translation part \\(m\\)\n\\(not aligned\\)\n.*rmse\t0\\.016064\n"
+  ARGS ape tum ${_evo_ref}/gt_kf-slam_6D_demo.tum ${_evo_ref}/ekf_kf-slam_6D_demo.tum)
+swba_cli_case(evo_underscore_options 0 REGEX "RPE w.r.t. translation part \\(m\\)\nfor delta = 10 \\(frames\\) using all pairs"
+  ARGS rpe tum ${_evo_ref}/gt_kf-slam_6D_demo.tum ${_evo_ref}/ekf_kf-slam_6D_demo.tum --t_max_diff 0.01 --delta 10 --all_pairs)
+swba_cli_case(save_results_zip 2
+  REGEX "^swba ape: error: --save-results writes a directory of plain files \\(JSON, CSV, TUM\\), not evo's \\.zip: give a directory \\('[^']*/results'\\)"
+  ARGS ape ${_evo_ref}/gt_kf-slam_6D_demo.tum ${_evo_ref}/ekf_kf-slam_6D_demo.tum --save-results ${_out}/results.zip)
+swba_cli_case(evo_kitti_form 2 REGEX "^swba ape: error: evo's 'kitti' format is not read: convert the trajectories to TUM first"
+  ARGS ape kitti a.txt b.txt)
+# A new user's whole walkthrough (tests/apps/new_user_walkthrough.sh): every subcommand on the shipped data, then
+# malformed inputs, each with doc/cli.md's exit code (0, 2 a bad command line, 1 a bad input or failure)
+# and the message naming what was wrong.
+add_test(NAME apps.cli.new_user_walkthrough
+  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/new_user_walkthrough.sh $<TARGET_FILE:swba> ${_out}/new_user_walkthrough
+          ${SWBA_MRPT_DATASETS} ${CMAKE_SOURCE_DIR})
+set_tests_properties(apps.cli.new_user_walkthrough PROPERTIES PASS_REGULAR_EXPRESSION "OK: new-user walkthrough"
+  FAIL_REGULAR_EXPRESSION "FAIL " TIMEOUT 300)

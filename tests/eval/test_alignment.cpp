@@ -110,16 +110,14 @@ TEST(Umeyama, RejectsDegenerateInput)
 	EXPECT_THROW(umeyama_alignment(Eigen::Matrix3Xd(3, 0), Eigen::Matrix3Xd(3, 0), false), std::invalid_argument);
 	EXPECT_THROW(umeyama_alignment(Eigen::Matrix3Xd::Zero(3, 2), Eigen::Matrix3Xd::Zero(3, 3), false),
 				 std::invalid_argument);
-	// Scale from identical points is undefined.
+	// Scale from identical points is undefined (their cross-covariance is 0: degenerate).
 	EXPECT_THROW(umeyama_alignment(Eigen::Matrix3Xd::Ones(3, 4), Eigen::Matrix3Xd::Random(3, 4), true),
 				 std::invalid_argument);
-	// One point, SE(3): a pure translation.
+	// One point determines a translation but no rotation: an error, as in evo (see below).
 	Eigen::Matrix3Xd x(3, 1), y(3, 1);
 	x << 1, 2, 3;
 	y << 4, 4, 4;
-	const Sim3 a = umeyama_alignment(x, y, false);
-	EXPECT_NEAR((a.R - Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-15);
-	EXPECT_NEAR((a.t - Eigen::Vector3d(3, 2, 1)).norm(), 0.0, 1e-15);
+	EXPECT_THROW(umeyama_alignment(x, y, false), std::invalid_argument);
 }
 
 TEST(AlignTrajectory, Sim3AlignmentUndoesAKnownTransformOfWholePoses)
@@ -179,4 +177,30 @@ TEST(AlignTrajectory, OriginAlignmentMapsFirstPoseOntoReference)
 	o.align = true;
 	EXPECT_EQ(alignment_title(o), "(with SE(3) Umeyama alignment)\n(with origin alignment)");
 	EXPECT_EQ(alignment_title({}), "(not aligned)");
+}
+
+TEST(Umeyama, OneOrTwoPosesOrCollinearOnesAreDegenerateAsInEvo)
+{
+	Eigen::Matrix3Xd one(3, 1), two(3, 2), line(3, 4);
+	one << 1, 2, 3;
+	two << 0, 1, 0, 0, 0, 0;
+	line << 0, 1, 2, 3, 0, 0, 0, 0, 0, 0, 0, 0;
+	for (const Eigen::Matrix3Xd* pts : {&one, &two, &line})
+		for (const bool scale : {false, true})
+		{
+			try
+			{
+				umeyama_alignment(*pts, *pts, scale);
+				ADD_FAILURE() << pts->cols() << " points, scale " << scale << ": no error";
+			}
+			catch (const std::invalid_argument& e)
+			{
+				EXPECT_EQ(std::string(e.what()).rfind("Degenerate covariance rank, Umeyama alignment is not possible", 0), 0u)
+					<< e.what();
+			}
+		}
+	// Three points that span a plane are enough.
+	Eigen::Matrix3Xd plane(3, 3);
+	plane << 0, 1, 0, 0, 0, 1, 0, 0, 0;
+	EXPECT_NO_THROW(umeyama_alignment(plane, plane, false));
 }

@@ -78,3 +78,19 @@ foreach(_entry ${_swba_module_dirs})
     add_dependencies(swba_header_check swba_header_check_${_module})
   endif()
 endforeach()
+
+# The example shows what an online application needs beyond the poses: the landmark each reading was
+# associated with (here on readings without IDs) and the landmarks' marginal covariances.
+add_test(NAME install.example_shows_association_and_covariances
+  COMMAND ${SWBA_INSTALL_TEST_DIR}/examples-build/swba_online_slam ${SWBA_MRPT_DATASETS}/kf-slam_6D_demo_DA.rawlog
+          --window 10 --print-every 100)
+set_tests_properties(install.example_shows_association_and_covariances PROPERTIES FIXTURES_REQUIRED swba_example_built
+  PASS_REGULAR_EXPRESSION "step   99: [^\n]*\n +readings -> landmarks: 0->[0-9]+ 1->[0-9]+.*landmark covariances: 20 landmarks, the least certain is [0-9]+ \\(largest std 0\\.0[0-9]+ m\\)"
+  TIMEOUT 120)
+# The evaluation example on evo's reference trajectories: evo's block (the golden figure of swba ape) and its files.
+add_test(NAME install.example_evaluate
+  COMMAND ${SWBA_INSTALL_TEST_DIR}/examples-build/swba_evaluate ${SWBA_DATA_DIR}/evo_reference/gt_kf-slam_6D_demo.tum
+          ${SWBA_DATA_DIR}/evo_reference/ekf_kf-slam_6D_demo.tum ${SWBA_INSTALL_TEST_DIR}/evaluate)
+set_tests_properties(install.example_evaluate PROPERTIES FIXTURES_REQUIRED swba_example_built
+  PASS_REGULAR_EXPRESSION "APE w.r.t. translation part \\(m\\)\n\\(not aligned\\)\n.*rmse\t0\\.016[0-9]*\n.*RPE w.r.t. translation part"
+  TIMEOUT 120)

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <filesystem>
 #include <cstdio>
+#include <sstream>
 #include <stdexcept>
 #include <unistd.h>
 
@@ -36,6 +37,20 @@ std::ifstream open_input_file(const std::string& path, std::ios::openmode mode, 
 	std::ifstream f(path, mode);
 	if (!f) fail(path, what_file, std::string("cannot open: ") + (errno ? std::strerror(errno) : "unknown error"));
 	return f;
+}
+
+std::string read_text_file(const std::string& path, const std::string& what_file)
+{
+	std::ifstream f = open_input_file(path, std::ios::in | std::ios::binary, what_file);
+	std::ostringstream text;
+	text << f.rdbuf();
+	if (f.bad()) fail(path, what_file, "read error");
+	std::string s = text.str();
+	const auto nul = s.find('\0');
+	if (nul != std::string::npos)
+		fail(path, what_file, "not a text file (a NUL byte at byte " + std::to_string(nul) +
+								  ": binary data, e.g. a rawlog)");
+	return s;
 }
 
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write,

@@ -2,6 +2,8 @@
 #include "swba/eval/alignment.h"
 
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <limits>
 #include <stdexcept>
 
 namespace swba::eval
@@ -35,13 +37,16 @@ Sim3 umeyama_alignment(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst,
 		throw std::invalid_argument("umeyama_alignment: " + std::to_string(src.cols()) + " source points but " +
 									std::to_string(dst.cols()) + " destination points");
 	if (src.cols() == 0) throw std::invalid_argument("umeyama_alignment: no points to align");
-	if (with_scale)
-	{
-		const Eigen::Vector3d mean = src.rowwise().mean();
-		if ((src.colwise() - mean).squaredNorm() == 0.0)
-			throw std::invalid_argument(
-				"umeyama_alignment: cannot estimate a scale: all estimated positions are equal");
-	}
+	// evo's test: the cross-covariance of the centred point sets needs rank >= 2 (two singular values
+	// above machine epsilon), else the rotation is not determined (1 or 2 poses, collinear positions).
+	const Eigen::Matrix3Xd src_c = src.colwise() - src.rowwise().mean();
+	const Eigen::Matrix3Xd dst_c = dst.colwise() - dst.rowwise().mean();
+	const Eigen::Matrix3d cov = dst_c * src_c.transpose() / static_cast<double>(src.cols());
+	const Eigen::Vector3d sv = Eigen::JacobiSVD<Eigen::Matrix3d>(cov).singularValues();
+	if ((sv.array() > std::numeric_limits<double>::epsilon()).count() < 2)
+		throw std::invalid_argument("Degenerate covariance rank, Umeyama alignment is not possible (" +
+									std::to_string(src.cols()) +
+									" poses: their positions must span a plane, 3 or more not on one line)");
 	// Eigen::umeyama returns [c·R t; 0 1] with det R = +1 (it applies S = diag(1,1,−1) when
 	// det U · det V < 0, exactly as Umeyama's paper and evo).
 	const Eigen::Matrix4d T = Eigen::umeyama(src, dst, with_scale);

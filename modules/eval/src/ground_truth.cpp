@@ -3,10 +3,35 @@
 #include <swba/eval/ground_truth.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace swba::eval
 {
+namespace
+{
+/** A TUM file: named *.tum, or its first data line has TUM's 8 columns (MRPT's path has 6). */
+bool is_tum_file(const std::string& path)
+{
+	if (path.size() > 4 && path.compare(path.size() - 4, 4, ".tum") == 0) return true;
+	std::error_code ec;
+	if (!std::filesystem::is_regular_file(path, ec)) return false;  // the reader names what it is
+	std::ifstream f(path);
+	for (std::string line; std::getline(f, line);)
+	{
+		const auto b = line.find_first_not_of(" \t\r");
+		if (b == std::string::npos || line[b] == '#' || line[b] == '%') continue;
+		std::istringstream words(line);
+		std::size_t n = 0;
+		for (std::string w; words >> w;) n++;
+		return n == 8;
+	}
+	return false;
+}
+}  // namespace
+
 std::string default_ground_truth_path(const std::string& rawlog_path)
 {
 	std::string base = rawlog_path;
@@ -24,7 +49,9 @@ std::string default_ground_truth_path(const std::string& rawlog_path)
 
 std::vector<mrpt::poses::CPose3D> read_ground_truth_for(const std::string& path, std::size_t steps)
 {
-	const std::vector<mrpt::poses::CPose3D> rows = read_mrpt_ground_truth(path).poses;
+	// Row by row in both formats (row i = the pose at SF_i): a TUM file's stamps are not used for the
+	// pairing (swba run's own gt.tum has t = row).
+	const std::vector<mrpt::poses::CPose3D> rows = (is_tum_file(path) ? read_tum(path) : read_mrpt_ground_truth(path)).poses;
 	if (rows.size() < steps + 1)
 		throw std::runtime_error("ground truth '" + path + "': " + std::to_string(rows.size()) +
 								 " rows, but the rawlog has " + std::to_string(steps) + " steps and needs " +

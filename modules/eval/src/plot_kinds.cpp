@@ -2,6 +2,8 @@
 #include "swba/eval/plot.h"
 #include "swba/eval/text_format.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace swba::eval
@@ -54,11 +56,12 @@ PlotOutput plot_error_over_time(const std::string& dir, const std::string& basen
 	p.with_points = false;
 	p.series.push_back({e.label, e.stamps, e.errors});
 	p.series.back().line_style = "lw 1 lt 1";  // thin: thousands of poses must not hide the lines drawn over them
-	if (!e.bound.empty() && e.bound.size() == e.stamps.size())
-	{
-		p.series.push_back({e.bound_label, e.stamps, e.bound});
-		p.series.back().line_style = "lc rgb \"#404040\" dt 2 lw 1";
-	}
+	// The errors are norms (≥ 0): the y axis runs from 0 to just above the largest, so the curve fills
+	// the plot and every statistic drawn (each ≤ the maximum) is inside it.
+	double top = 0;
+	for (double v : e.errors)
+		if (std::isfinite(v)) top = std::max(top, v);
+	if (top > 0) p.yrange = AxisRange{0, top * 1.05};
 	// evo's order and meaning: rmse, median, mean as horizontal lines, the band mean ± std under them.
 	p.references.push_back({"rmse", e.stats.rmse});
 	p.references.push_back({"median", e.stats.median});

@@ -389,7 +389,8 @@ void Reader::check_contents() const
 		std::string why = std::to_string(converter_.bearing_range_observations()) + " CObservationBearingRange, " +
 			std::to_string(out_.skipped_readings) + " readings skipped as invalid";
 		if (out_.skipped_readings > 0 && opt_.require_landmark_ids)
-			why += "; unknown landmark IDs (-1) need data association, which is not supported";
+			why += "; the readings have no landmark ID (-1): use data association (--association auto, nn or jcbb) "
+				   "instead of ids";
 		fail("no valid bearing-range observation (" + counts + ", " + why + ")");
 	}
 }
@@ -430,53 +431,6 @@ std::uint64_t auto_memory_budget(std::uint64_t data_bytes)
 	const std::uint64_t max = ~std::uint64_t(0);
 	if (data_bytes > (max - kBase) / kPerByte) return max - 1;
 	return kBase + kPerByte * data_bytes;
-}
-
-std::string mrpt_exception_summary(const std::string& what)
-{
-	std::istringstream in(what);
-	std::string line, message, location, first;
-	while (std::getline(in, line))
-	{
-		const auto b = line.find_first_not_of(" \t\r");
-		if (b == std::string::npos) continue;
-		const auto e = line.find_last_not_of(" \t\r");
-		line = line.substr(b, e - b + 1);
-		if (line.rfind("Message:", 0) == 0 && message.empty())
-		{
-			const auto m = line.find_first_not_of(" \t", 8);
-			message = m == std::string::npos ? "" : line.substr(m);
-		}
-		else if (line.rfind("Location:", 0) == 0 && location.empty())
-		{
-			// "Location: ./libs/.../File.cpp:721: [function…" → "File.cpp:721"
-			std::string loc = line.substr(9);
-			const auto colon2 = loc.find(": ");
-			if (colon2 != std::string::npos) loc = loc.substr(0, colon2);
-			const auto slash = loc.find_last_of('/');
-			if (slash != std::string::npos) loc = loc.substr(slash + 1);
-			const auto lb = loc.find_first_not_of(' ');
-			location = lb == std::string::npos ? "" : loc.substr(lb);
-		}
-		else if (first.empty() && line.rfind("====", 0) != 0)
-			first = line;
-	}
-	std::string summary = first.empty() ? what : first;
-	if (!message.empty()) summary = location.empty() ? message : message + " (" + location + ")";
-	// MRPT quotes what it read (a class name from a corrupt file): never print raw bytes.
-	std::string out;
-	for (const unsigned char c : summary)
-	{
-		if (c >= 0x20 && c < 0x7f)
-			out += static_cast<char>(c);
-		else
-		{
-			char esc[5];
-			std::snprintf(esc, sizeof(esc), "\\x%02x", c);
-			out += esc;
-		}
-	}
-	return out;
 }
 
 RawlogStep RawlogStepConverter::convert(const CActionCollection::Ptr& acts, const CSensoryFrame::Ptr& sf,

@@ -2,7 +2,6 @@
 #include <swba/apps/run_options.h>
 #include <swba/core/file.h>
 
-#include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/system/filesystem.h>
 
@@ -240,9 +239,7 @@ void apply_config(const mrpt::config::CConfigFileBase& cfg, const std::string& s
 
 void load_run_config(const std::string& path, RunOptions& options)
 {
-	check_input_file(path, "config");
-	mrpt::config::CConfigFile cfg(path);
-	apply_config(cfg, path, options);
+	load_run_config_text(read_text_file(path, "config"), path, options);
 }
 
 void load_run_config_text(const std::string& text, const std::string& source_name, RunOptions& options)
@@ -282,8 +279,9 @@ std::vector<int> parse_window_list(const std::string& text, const std::string& w
 		{
 			throw std::invalid_argument(what + ": '" + item + "' is not an integer window size");
 		}
-		if (v < 2 || v > 1000000)
-			throw std::invalid_argument(what + ": window size must be >= 2, got " + item);
+		if (v < 2 || v > kMaxWindowSize)
+			throw std::invalid_argument(what + ": window size must be in [2, " + std::to_string(kMaxWindowSize) +
+										"], got " + item);
 		if (std::find(w.begin(), w.end(), static_cast<int>(v)) == w.end()) w.push_back(static_cast<int>(v));
 	}
 	return w;

@@ -59,10 +59,12 @@ RowTriage triage_rows(const RunReport& report)
 	return t;
 }
 
+/** Records a plot's files; its note only when gnuplot is there but failed (a missing gnuplot is said
+ * once for the whole run, by write_run_outputs). */
 void add_plot_files(const eval::PlotOutput& o, RunReport& report)
 {
 	for (const auto& f : o.files) report.files.push_back(f);
-	if (!o.note.empty()) report.notes.push_back(o.note);
+	if (!o.note.empty() && !eval::find_gnuplot().empty()) report.notes.push_back(o.note);
 }
 
 /** The rows of the top views: each EKF, the largest window (online), batch and causal; no failed row. */
@@ -88,8 +90,14 @@ void plot_top_view(const std::string& dir, const eval::Trajectory& gt, const Row
 	std::vector<eval::LabelledTrajectory> estimates;
 	for (const RunRow* r : shown)
 		estimates.push_back({r->label + (triage.is_diverged(*r) ? " (diverged)" : ""), r->estimate, triage.is_diverged(*r)});
-	eval::LinePlot p =
-		eval::top_view_plot({"ground truth", gt}, estimates, "trajectories (top view): " + rawlog_name(report));
+	const std::string title = "trajectories (top view): " + rawlog_name(report);
+	eval::LinePlot p;
+	if (!gt.empty())
+		p = eval::top_view_plot({"ground truth", gt}, estimates, title);
+	else if (!estimates.empty())  // no ground truth: the estimates alone, the first one in the reference's place
+		p = eval::top_view_plot(estimates.front(), {estimates.begin() + 1, estimates.end()}, title);
+	else
+		return;
 	p.notes = triage.plot_lines(shown);
 	add_plot_files(eval::plot_lines(dir, "trajectories", p, po), report);
 }
@@ -160,13 +168,6 @@ void plot_row_errors(const std::string& dir, const RunRow& r, const RowTriage& t
 	e.stamps = r.estimate.stamps;
 	e.errors = r.ape_trans_errors;
 	e.stats = r.ape_trans;
-	if (r.covariance.size() == r.estimate.size())
-	{
-		// √trace of the position covariance is the RMS of the position error's norm if the covariance
-		// is right (the trace is the same in the body and the world frame).
-		for (const auto& c : r.covariance) e.bound.push_back(2 * std::sqrt(c.topLeftCorner<3, 3>().trace()));
-		e.bound_label = "2 sqrt(trace P) (covariance)";
-	}
 	add_plot_files(eval::plot_error_over_time(dir, "ape_" + plot_stem(r), e, po), report);
 }
 

@@ -8,9 +8,10 @@ namespace swba::apps
 /** A row whose APE rmse is at least this many times the best row's is "diverged": drawn clipped. */
 constexpr double kDivergedFactor = 10.0;
 
-/** Writes the plots of a run with ground truth (gnuplot must be found; see write_run_outputs): the
- * top view, APE rmse vs W, and under plots/ the error over time of every row with APE and the
- * colormap top view of the rows in the top view. Failed rows are not drawn; diverged rows are drawn
+/** Writes the plots of a run: the top view (the ground truth and the estimates; the estimates alone
+ * without ground truth) and, with ground truth, APE rmse vs W, and under plots/ the error over time of
+ * every row with APE and the colormap top view of the rows in the top view. Each plot is its .dat and
+ * .gp files, rendered to .png/.svg when gnuplot is found. Failed rows are not drawn; diverged rows are drawn
  * clipped (they never set an axis range). Either gets a line in each summary plot and a note in
  * report.notes. Files go to report.files. */
 void write_run_plots(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& ground_truth,

@@ -1,5 +1,7 @@
 // swba run: the comparison table, ape.txt / ape.csv / summary.json, TUM files and plots.
 #include "covariance_files.h"
+#include "output_dir.h"
+#include "summary_fields.h"
 #include "plots.h"
 
 #include <swba/apps/run.h>
@@ -46,6 +48,33 @@ const std::vector<std::pair<const char*, double eval::Statistics::*>>& stat_fiel
 	return f;
 }
 
+/** The statistics blocks of a row, in the order of ape.txt, ape.csv and summary.json: name (CSV prefix),
+ * JSON key, evo's title, and whether the row has them. */
+struct StatsPart
+{
+	const char* name;
+	const char* json_key;
+	std::string title;
+	eval::Statistics RunRow::*stats;
+	bool RunRow::*has;
+};
+
+const std::vector<StatsPart>& stats_parts()
+{
+	using eval::PoseRelation;
+	const std::string not_aligned = "\n(not aligned)";
+	static const std::vector<StatsPart> parts = {
+		{"trans", "ape_trans", eval::ape_metric_title(PoseRelation::TranslationPart) + not_aligned, &RunRow::ape_trans,
+		 &RunRow::has_ape},
+		{"full", "ape_full", eval::ape_metric_title(PoseRelation::FullTransformation) + not_aligned, &RunRow::ape_full,
+		 &RunRow::has_ape},
+		{"rot", "ape_rot", eval::ape_metric_title(PoseRelation::RotationAngleDeg) + not_aligned, &RunRow::ape_rot,
+		 &RunRow::has_ape},
+		{"rpe", "rpe_trans", eval::rpe_metric_title(PoseRelation::TranslationPart, 1, false) + not_aligned,
+		 &RunRow::rpe_trans, &RunRow::has_rpe}};
+	return parts;
+}
+
 void write_text_file(const std::string& path, const std::string& text, RunReport& report)
 {
 	write_file_atomically(path, [&](std::ostream& f) { f << text; });
@@ -55,27 +84,34 @@ void write_text_file(const std::string& path, const std::string& text, RunReport
 
 std::string format_comparison_table(const RunReport& report)
 {
-	std::size_t wl = std::string("estimator").size();
-	for (const auto& r : report.rows) wl = std::max(wl, r.label.size());
+	std::size_t wl = std::string("estimator").size(), ww = 5;  // label and W column widths
+	for (const auto& r : report.rows)
+	{
+		wl = std::max(wl, r.label.size());
+		ww = std::max(ww, std::to_string(r.window).size() + 2);
+	}
 	std::ostringstream s;
 	s << "swba run: " << report.rawlog << " (" << report.steps << " steps)";
 	if (report.ground_truth.empty()) s << ", no ground truth: APE not computed";
-	s << "\nAPE not aligned; estimate after step k vs ground-truth row k+1\n";
+	s << "\nAPE not aligned; estimate after step k vs ground-truth row k+1; rot: APE rotation angle (deg); rpe: RPE "
+		 "translation (m) between consecutive steps\n";
 	const std::size_t cw = 11;
-	s << pad_right("estimator", wl) << pad_left("W", 5) << "  " << pad_right("trajectory", 11)
+	s << pad_right("estimator", wl) << pad_left("W", ww) << "  " << pad_right("trajectory", 11)
 	  << pad_left("trans rmse", cw) << pad_left("trans mean", cw) << pad_left("trans med", cw)
-	  << pad_left("trans max", cw) << pad_left("full rmse", cw) << pad_left("ms/step", 10) << "\n";
-	s << std::string(wl + 5 + 2 + 11 + 5 * cw + 10, '-') << "\n";
+	  << pad_left("trans max", cw) << pad_left("full rmse", cw) << pad_left("rot rmse", cw) << pad_left("rpe rmse", cw)
+	  << pad_left("ms/step", 10) << "\n";
+	s << std::string(wl + ww + 2 + 11 + 7 * cw + 10, '-') << "\n";
 	for (const auto& r : report.rows)
 	{
-		s << pad_right(r.label, wl) << pad_left(r.window ? std::to_string(r.window) : "-", 5) << "  "
+		s << pad_right(r.label, wl) << pad_left(r.window ? std::to_string(r.window) : "-", ww) << "  "
 		  << pad_right(r.trajectory, 11);
 		if (r.has_ape && !r.diverged)
 			s << pad_left(fixed(r.ape_trans.rmse, 6), cw) << pad_left(fixed(r.ape_trans.mean, 6), cw)
 			  << pad_left(fixed(r.ape_trans.median, 6), cw) << pad_left(fixed(r.ape_trans.max, 6), cw)
-			  << pad_left(fixed(r.ape_full.rmse, 6), cw);
+			  << pad_left(fixed(r.ape_full.rmse, 6), cw) << pad_left(fixed(r.ape_rot.rmse, 6), cw);
 		else
-			for (int i = 0; i < 5; i++) s << pad_left("-", cw);
+			for (int i = 0; i < 6; i++) s << pad_left("-", cw);
+		s << pad_left(r.has_rpe && !r.diverged ? fixed(r.rpe_trans.rmse, 6) : "-", cw);
 		s << pad_left(fixed(r.ms_per_step, 3), 10);
 		if (r.interrupted)
 			s << "  INTERRUPTED after " << r.failed_step << " steps";
@@ -91,7 +127,6 @@ std::string format_comparison_table(const RunReport& report)
 std::string format_ape_text(const RunReport& report)
 {
 	std::ostringstream s;
-	const std::string not_aligned = "\n(not aligned)";
 	for (const auto& r : report.rows)
 	{
 		s << "=== " << r.label << " (" << r.trajectory << ")";
@@ -104,12 +139,8 @@ std::string format_ape_text(const RunReport& report)
 			s << "(no APE)\n\n";
 			continue;
 		}
-		s << eval::format_statistics_text(eval::ape_metric_title(eval::PoseRelation::TranslationPart) + not_aligned,
-										  r.ape_trans)
-		  << "\n";
-		s << eval::format_statistics_text(eval::ape_metric_title(eval::PoseRelation::FullTransformation) + not_aligned,
-										  r.ape_full)
-		  << "\n";
+		for (const auto& part : stats_parts())
+			if (r.*part.has) s << eval::format_statistics_text(part.title, r.*part.stats) << "\n";
 	}
 	return s.str();
 }
@@ -118,8 +149,10 @@ std::string format_ape_csv(const RunReport& report)
 {
 	std::ostringstream s;
 	s << "label,name,window,trajectory,policy,fej,method,failed,failed_step,poses";
-	for (const char* part : {"trans", "full"})
-		for (const auto& [name, field] : stat_fields()) s << "," << part << "_" << name;
+	for (const auto& part : stats_parts())
+		for (const auto& [name, field] : stat_fields()) s << "," << part.name << "_" << name;
+	s << ",association_correct_percent";
+	for (const auto& f : association_fields()) s << ",association_" << f.first;
 	s << ",seconds,ms_per_step,diverged,reading_misfit\n";
 	char buf[64];
 	auto num = [&buf](double v) {
@@ -132,8 +165,11 @@ std::string format_ape_csv(const RunReport& report)
 		  << r.trajectory << "," << r.policy << "," << (r.fej ? (*r.fej ? "on" : "off") : "") << "," << r.method << ","
 		  << (r.failed ? "true" : "false") << "," << (r.failed ? std::to_string(r.failed_step) : "") << ","
 		  << r.estimate.size();
-		for (const eval::Statistics* st : {&r.ape_trans, &r.ape_full})
-			for (const auto& f : stat_fields()) s << "," << (r.has_ape ? num((*st).*(f.second)) : "");
+		for (const auto& part : stats_parts())
+			for (const auto& f : stat_fields()) s << "," << (r.*part.has ? num((r.*part.stats).*(f.second)) : "");
+		s << "," << (r.association ? num(100.0 * r.association->fraction_correct()) : "");
+		for (const auto& f : association_fields())
+			s << "," << (r.association ? std::to_string((*r.association).*(f.second)) : "");
 		s << "," << num(r.seconds) << "," << num(r.ms_per_step) << "," << (r.diverged ? "true" : "false") << ","
 		  << (r.reading_misfit ? num(*r.reading_misfit) : "") << "\n";
 	}
@@ -172,6 +208,15 @@ ordered_json readings_object(const estimators::ReadingCounts& c)
 	return j;
 }
 
+/** How right the data association was (AssociationQuality), with the share correct in percent. */
+ordered_json association_object(const estimators::AssociationQuality& q)
+{
+	ordered_json j;
+	j["correct_percent"] = number(100.0 * q.fraction_correct());
+	for (const auto& [name, field] : association_fields()) j[name] = q.*field;
+	return j;
+}
+
 /** One entry of "estimators"; fields that do not apply to the row are null. */
 ordered_json row_object(const RunRow& r)
 {
@@ -185,8 +230,9 @@ ordered_json row_object(const RunRow& r)
 	e["method"] = string_or_null(r.method);
 	e["file"] = string_or_null(r.file);
 	e["poses"] = r.estimate.size();
-	e["ape_trans"] = r.has_ape ? stats_object(r.ape_trans) : ordered_json(nullptr);
-	e["ape_full"] = r.has_ape ? stats_object(r.ape_full) : ordered_json(nullptr);
+	for (const auto& part : stats_parts())
+		e[part.json_key] = r.*part.has ? stats_object(r.*part.stats) : ordered_json(nullptr);
+	e["association"] = r.association ? association_object(*r.association) : ordered_json(nullptr);
 	e["seconds"] = number(r.seconds);
 	e["ms_per_step"] = number(r.ms_per_step);
 	e["covariance_seconds"] = r.covariance_seconds ? number(*r.covariance_seconds) : ordered_json(nullptr);
@@ -246,6 +292,7 @@ void write_run_files(const RunOptions& options, const std::vector<mrpt::poses::C
 	write_text_file(path("summary.json"), format_summary_json(report), report);
 	write_text_file(path("config.ini"),
 					"# swba run: the options of this run (load with --config)\n" + format_run_config(options), report);
+	write_run_manifest(dir, report.files);
 }
 
 void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& gt, RunReport& report)
@@ -257,13 +304,12 @@ void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses:
 		throw std::runtime_error("cannot create output directory '" + dir + "'" + (ec ? ": " + ec.message() : ""));
 	write_run_files(options, gt, report);
 
-	if (!options.plots || gt.empty()) return;
-	eval::PlotOptions po;
-	if (eval::find_gnuplot(po).empty())
-	{
-		report.notes.push_back("gnuplot not found: no plots");
-		return;
-	}
+	if (!options.plots) return;
+	// Without gnuplot the plots' data and scripts are still written: gnuplot elsewhere draws them.
+	if (eval::find_gnuplot().empty())
+		report.notes.push_back("gnuplot not found: plots not drawn; their data (.dat) and scripts (.gp) are in " + dir +
+							   "/ and " + dir + "/plots/ (cd there && gnuplot <name>.gp)");
 	write_run_plots(options, gt, report);
+	write_run_manifest(dir, report.files);
 }
 }  // namespace swba::apps

@@ -140,7 +140,14 @@ void compute_row_ape(RunRow& row, const std::vector<mrpt::poses::CPose3D>& gt)
 	row.ape_trans = eval::compute_statistics(row.ape_trans_errors);
 	row.ape_full = eval::compute_statistics(
 		eval::ape_errors_against_ground_truth(gt, row.estimate, eval::PoseRelation::FullTransformation));
+	row.ape_rot = eval::compute_statistics(
+		eval::ape_errors_against_ground_truth(gt, row.estimate, eval::PoseRelation::RotationAngleDeg));
 	row.has_ape = true;
+	row.has_rpe = row.estimate.size() >= 2;
+	if (row.has_rpe)
+		row.rpe_trans = eval::compute_statistics(eval::rpe_errors(eval::paired_ground_truth(gt, row.estimate), row.estimate,
+																	eval::PoseRelation::TranslationPart,
+																	eval::rpe_pairs(row.estimate.size(), 1, false)));
 }
 
 RunRow run_ekf_row(const RowContext& ctx, const std::string& method, std::vector<std::string>& notes)

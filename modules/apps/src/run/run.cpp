@@ -1,5 +1,6 @@
 // swba run: read the rawlog and ground truth, run every estimator asked for, report.
 #include "divergence.h"
+#include "output_dir.h"
 #include "rows.h"
 
 #include <swba/apps/run.h>
@@ -7,14 +8,11 @@
 
 #include <mrpt/system/filesystem.h>
 
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <ostream>
 #include <stdexcept>
-#include <unistd.h>
 
 namespace swba::apps
 {
@@ -166,18 +164,7 @@ void add_association_quality(RunReport& report, const io::Rawlog& rawlog, const 
 	{
 		if (r.assigned_ids.empty() || r.failed) continue;
 		r.association = estimators::evaluate_association(r.assigned_ids, truth);
-		if (r.trajectory == "lagged") continue;
-		const auto& q = *r.association;
-		char buf[256];
-		std::snprintf(buf, sizeof buf,
-					  "%s: association %.2f %% correct (%zu of %zu associated readings right, %zu of %zu readings "
-					  "associated), %zu landmarks for %zu true, %zu duplicate, %zu spurious",
-					  r.label.c_str(), 100.0 * q.fraction_correct(), q.correct, q.associated, q.associated, q.readings,
-					  q.landmarks, q.true_landmarks, q.duplicates, q.spurious);
-		std::string note = buf;
-		if (r.name == "window" && r.reading_counts)
-			note += ", " + std::to_string(r.reading_counts->reassociated) + " re-associated in the window";
-		report.notes.push_back(note);
+		if (r.trajectory != "lagged") report.notes.push_back(format_association_note(r));
 	}
 }
 
@@ -307,20 +294,20 @@ RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
 	return report;
 }
 
-/** Creates `dir` and checks that a file can be created in it: a run must not spend its estimation
- * time and then lose the results to a mistyped or read-only --out. */
-void prepare_output_directory(const std::string& dir)
+std::string format_association_note(const RunRow& r)
 {
-	std::error_code ec;
-	if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
-		throw std::runtime_error("output directory '" + dir + "' exists and is not a directory");
-	std::filesystem::create_directories(dir, ec);
-	if (ec) throw std::runtime_error("cannot create output directory '" + dir + "': " + ec.message());
-	const std::string probe = dir + "/.swba_write_test." + std::to_string(::getpid());
-	std::FILE* f = std::fopen(probe.c_str(), "w");
-	if (!f) throw std::runtime_error("cannot write into output directory '" + dir + "': " + std::strerror(errno));
-	std::fclose(f);
-	std::remove(probe.c_str());
+	if (!r.association) return "";
+	const auto& q = *r.association;
+	char buf[256];
+	std::snprintf(buf, sizeof buf,
+				  "%s: association %.2f %% correct (%zu of %zu associated readings right, %zu of %zu readings "
+				  "associated), %zu landmarks for %zu true, %zu duplicate, %zu spurious",
+				  r.label.c_str(), 100.0 * q.fraction_correct(), q.correct, q.associated, q.associated, q.readings,
+				  q.landmarks, q.true_landmarks, q.duplicates, q.spurious);
+	std::string note = buf;
+	if (r.name == "window" && r.reading_counts)
+		note += ", " + std::to_string(r.reading_counts->reassociated) + " re-associated in the window";
+	return note;
 }
 
 bool run_interrupted(const RunReport& report)
@@ -330,10 +317,10 @@ bool run_interrupted(const RunReport& report)
 	return false;
 }
 
-bool some_estimator_diverged(const RunReport& report)
+bool some_estimator_failed_or_diverged(const RunReport& report)
 {
 	for (const auto& r : report.rows)
-		if (r.diverged) return true;
+		if (r.diverged || (r.failed && !r.interrupted)) return true;
 	return false;
 }
 
@@ -372,7 +359,7 @@ RunReport run_app(const RunOptions& given, std::ostream& out, std::ostream& log,
 			<< rawlog.steps.size() << " steps (" << rawlog.steps.size() + 1
 			<< " rows used): is the rawlog cut short, or the ground truth another run's?\n";
 	print_inputs(options, rawlog, gt_path, log);
-	prepare_output_directory(options.out_dir);
+	prepare_output_directory(options.out_dir, "swba run", log);
 
 	RunControl control;
 	control.stop_requested = stop_requested;

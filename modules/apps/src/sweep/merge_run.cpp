@@ -191,6 +191,7 @@ RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptio
 		const JobSummary& j = jobs[m.job];
 		report.rows.push_back(run_row_from_json(m.entry, j.dir, j.path));
 		const RunRow& row = report.rows.back();
+		if (row.association && row.trajectory != "lagged") report.notes.push_back(format_association_note(row));
 		if (row.file.empty() || !fs::exists(j.dir + "/" + row.file)) continue;
 		copy_file(j.dir + "/" + row.file, dir + "/" + row.file, files);
 	}
@@ -230,20 +231,20 @@ RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptio
 	write("summary.json", merged.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n");
 	write("config.ini", "# swba run: the options of this run (load with --config)\n" + format_run_config(run));
 
-	if (options.plots && !report.ground_truth.empty())
+	if (options.plots)
 	{
+		// As swba run: without gnuplot the plots' data and scripts are written all the same.
 		if (eval::find_gnuplot().empty())
-			report.notes.push_back("gnuplot not found: no plots");
-		else
-		{
-			const auto gt = eval::read_ground_truth_for(report.ground_truth, report.steps);
-			for (auto& r : report.rows)
-				if (r.has_ape && !r.estimate.empty())
-					r.ape_trans_errors = eval::ape_errors_against_ground_truth(gt, r.estimate, eval::PoseRelation::TranslationPart);
-			report.files.clear();
-			write_run_plots(run, gt, report);
-			files.insert(files.end(), report.files.begin(), report.files.end());
-		}
+			report.notes.push_back("gnuplot not found: plots not drawn; their data (.dat) and scripts (.gp) are in " +
+								   dir + "/ and " + dir + "/plots/ (cd there && gnuplot <name>.gp)");
+		std::vector<mrpt::poses::CPose3D> gt;
+		if (!report.ground_truth.empty()) gt = eval::read_ground_truth_for(report.ground_truth, report.steps);
+		for (auto& r : report.rows)
+			if (r.has_ape && !r.estimate.empty())
+				r.ape_trans_errors = eval::ape_errors_against_ground_truth(gt, r.estimate, eval::PoseRelation::TranslationPart);
+		report.files.clear();
+		write_run_plots(run, gt, report);
+		files.insert(files.end(), report.files.begin(), report.files.end());
 	}
 	return report;
 }

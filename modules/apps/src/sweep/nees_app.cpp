@@ -65,8 +65,10 @@ int run_nees_app(const NeesOptions& o, std::ostream& out, std::ostream& log)
 	o.validate();
 	const SweepOptions so = o.sweep_options();
 	const SweepPlan plan = plan_sweep(so);
-	write_sweep(so, plan, log);
+	write_sweep(so, plan, log, o.jobs_only);
 	if (o.jobs_only) return 0;
+	log << "swba nees: running the " << plan.jobs.size() << " jobs of " << plan.dir
+		<< "/jobs.txt here, one after the other (--jobs-only writes them for GNU parallel or Slurm instead)\n";
 	for (const auto& job : plan.jobs)
 	{
 		const std::string dir = job_directory(plan, job);

@@ -136,11 +136,8 @@ std::size_t declare_unperturbed_odometry_exact(const std::string& rawlog)
 SimulatedRawlog simulate_rawlog(const SimulateOptions& o, std::ostream& log)
 {
 	o.validate();
-	std::ifstream in = open_input_file(o.ini, std::ios::in, "simul-landmarks INI");
-	std::stringstream text;
-	text << in.rdbuf();
 	const std::string name = o.output_name();
-	const std::string ini_text = simulation_ini(text.str(), o.ini, o.seed, name);
+	const std::string ini_text = simulation_ini(read_text_file(o.ini, "simul-landmarks INI"), o.ini, o.seed, name);
 
 	std::error_code ec;
 	fs::create_directories(o.out_dir, ec);

@@ -1,6 +1,8 @@
 // Reading a job's summary.json back (see summary_json.h).
 #include "summary_json.h"
 
+#include "../run/summary_fields.h"
+
 #include <swba/core/file.h>
 
 #include <cmath>
@@ -57,6 +59,21 @@ eval::Statistics statistics(const ordered_json& s, std::size_t count)
 }
 }  // namespace
 
+namespace
+{
+/** Whether `key` is in `e` and not null (the rotation APE, RPE and association of a summary.json are
+ * optional: a job written before they were reported has none). */
+bool present(const ordered_json& e, const char* key) { return e.contains(key) && !e.at(key).is_null(); }
+
+/** An "association" object of summary.json (its counts; the percentage is derived from them). */
+estimators::AssociationQuality association_quality(const ordered_json& a)
+{
+	estimators::AssociationQuality q;
+	for (const auto& [name, field] : association_fields()) q.*field = a.at(name).get<std::size_t>();
+	return q;
+}
+}  // namespace
+
 RunRow run_row_from_json(const ordered_json& e, const std::string& dir, const std::string& source)
 {
 	RunRow r;
@@ -76,7 +93,11 @@ RunRow run_row_from_json(const ordered_json& e, const std::string& dir, const st
 		{
 			r.ape_trans = statistics(e.at("ape_trans"), poses);
 			r.ape_full = statistics(e.at("ape_full"), poses);
+			if (present(e, "ape_rot")) r.ape_rot = statistics(e.at("ape_rot"), poses);
 		}
+		r.has_rpe = present(e, "rpe_trans");
+		if (r.has_rpe) r.rpe_trans = statistics(e.at("rpe_trans"), poses - 1);
+		if (present(e, "association")) r.association = association_quality(e.at("association"));
 		r.seconds = number_or_nan(e.at("seconds"));
 		r.ms_per_step = number_or_nan(e.at("ms_per_step"));
 		r.steps = e.at("steps_processed").get<std::size_t>();

@@ -55,6 +55,11 @@ struct RunRow
 
 	bool has_ape = false;    ///< false without ground truth or when the estimator failed
 	eval::Statistics ape_trans, ape_full;  ///< APE translation part (m), full transformation (unit-less)
+	eval::Statistics ape_rot;  ///< APE rotation angle (deg), with has_ape
+	/** RPE translation part (m) between consecutive estimates (δ = 1 step, evo_rpe's default): the
+	 * drift per step; with has_rpe (has_ape and at least two poses). */
+	eval::Statistics rpe_trans;
+	bool has_rpe = false;
 	std::vector<double> ape_trans_errors;  ///< per pose of `estimate`: APE translation part (m), for the plots
 
 	double seconds = 0;      ///< wall time of the estimator (all its steps, or the batch solve)
@@ -127,7 +132,11 @@ RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
 
 /** The comparison table (one row per estimator; failures with their step and message). */
 std::string format_comparison_table(const RunReport& report);
-/** ape.txt: per estimator a header line and evo's two blocks (translation part, full transformation). */
+/** The note of a row with RunRow::association: "<label>: association P % correct (…), L landmarks for T
+ * true, D duplicate, S spurious[, R re-associated in the window]" (stderr of swba run and swba merge). */
+std::string format_association_note(const RunRow& row);
+/** ape.txt: per estimator a header line and evo's blocks (APE translation part, full transformation,
+ * rotation angle; RPE translation part between consecutive steps). */
 std::string format_ape_text(const RunReport& report);
 /** ape.csv: header + one row per estimator (translation and full-transformation statistics). */
 std::string format_ape_csv(const RunReport& report);
@@ -146,8 +155,8 @@ void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses:
 
 /** True when the report has rows and every one of them failed (swba run then exits 1). */
 bool every_estimator_failed(const RunReport& report);
-/** True when some row is marked diverged. */
-bool some_estimator_diverged(const RunReport& report);
+/** True when some row is marked diverged, or failed (not interrupted). */
+bool some_estimator_failed_or_diverged(const RunReport& report);
 
 /** True when a row was interrupted (RunControl::stop_requested). */
 bool run_interrupted(const RunReport& report);

@@ -84,8 +84,12 @@ void load_run_config(const std::string& path, RunOptions& options);
 /** As load_run_config(path, …) from INI text; `source_name` is used in messages. */
 void load_run_config_text(const std::string& text, const std::string& source_name, RunOptions& options);
 
+/** The largest window size a list may hold: a window of a million poses is a batch solve with a
+ * million-pose prior, far beyond what a run can hold in memory. */
+inline constexpr int kMaxWindowSize = 1000000;
+
 /** "5,10,20" → {5, 10, 20}. Throws std::invalid_argument naming `what` on an empty list, a
- * non-integer or a window < 2. */
+ * non-integer or a window outside [2, kMaxWindowSize]. */
 std::vector<int> parse_window_list(const std::string& text, const std::string& what = "windows");
 /** "slam" | "constant-time" | "map", a comma-separated list of them (duplicates dropped), "both"
  * (slam, constant-time) or "all". */

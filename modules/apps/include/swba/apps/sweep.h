@@ -113,9 +113,11 @@ std::string format_sbatch_script(const SweepPlan& plan);
 /** sweep.json. */
 std::string format_sweep_manifest(const SweepPlan& plan);
 
-/** Writes the sweep directory (config.ini, config_windows.ini, jobs.txt, jobs.sbatch, sweep.json) and
- * says how to run it on `log`. Throws std::runtime_error naming a path that cannot be written. */
-void write_sweep(const SweepOptions& options, const SweepPlan& plan, std::ostream& log);
+/** Writes the sweep directory (config.ini, config_windows.ini, jobs.txt, jobs.sbatch, sweep.json) and,
+ * with `say_how_to_run`, says on `log` how to run the jobs (GNU parallel, Slurm) and merge them; a
+ * caller that runs them itself says so instead. Throws std::runtime_error naming a path that cannot be
+ * written. */
+void write_sweep(const SweepOptions& options, const SweepPlan& plan, std::ostream& log, bool say_how_to_run = true);
 
 /** Reads DIR/sweep.json. Throws std::runtime_error naming the file and what is wrong. */
 SweepPlan read_sweep_manifest(const std::string& dir);

@@ -21,6 +21,11 @@ void check_input_file(const std::string& path, const std::string& what_file = ""
 std::ifstream open_input_file(const std::string& path, std::ios::openmode mode = std::ios::in,
 							  const std::string& what_file = "");
 
+/** The whole contents of a text file (open_input_file's checks first). Throws std::runtime_error
+ * "<what_file> '<path>': not a text file (a NUL byte at byte N: binary data, e.g. a rawlog)" when
+ * it holds a NUL byte, so that a binary file given where text is expected is named, never parsed. */
+std::string read_text_file(const std::string& path, const std::string& what_file = "");
+
 /** Writes `path` through `write`: into "<path>.tmp.<pid>" in the same directory, flushed and closed,
  * then renamed over `path`, so that a reader (or a run interrupted mid-write) never leaves a
  * half-written file, and an existing `path` stays intact when the write fails. A `path` that exists

@@ -7,14 +7,13 @@
  *
  * \code
  *   swba::estimators::MrptSlidingWindow slam(options);           // SlidingWindowOptions
- *   CActionCollection::Ptr acts; CSensoryFrame::Ptr sf; CObservation::Ptr obs; size_t pos = 0;
- *   while (CRawlog::getActionObservationPairOrObservation(arch, acts, sf, obs, pos))
- *     if (acts && sf) {
- *       slam.process(acts, sf);                  // throws std::invalid_argument on invalid data
- *       mrpt::poses::CPose3D now = slam.current_pose();
- *     }
+ *   for (const swba::io::RawlogStep& step : swba::io::read_rawlog(path).steps) {   // or a robot's pairs
+ *     slam.process(step.actions, step.observations);   // throws std::invalid_argument on invalid data
+ *     mrpt::poses::CPose3D now = slam.current_pose();
+ *   }
  *   slam.finish();
- * \endcode */
+ * \endcode
+ * (examples/online_slam is a whole application.) */
 #pragma once
 
 #include <swba/estimators/sliding_window.h>
@@ -118,6 +117,13 @@ class MrptSlidingWindow
 	std::map<std::int32_t, Eigen::Vector3d> landmarks() const { return estimator_.landmarks(); }
 	/** What each process() call did. */
 	const std::vector<StepSummary>& step_summaries() const { return estimator_.step_summaries(); }
+	/** Every landmark in the state with its world XYZ and marginal 3×3 covariance at the current
+	 * estimate (SlidingWindowEstimator::landmark_estimates: one factorisation of the window's system,
+	 * so call it when needed, not after every step). Not const: the estimator caches the factorisation. */
+	std::map<std::int32_t, LandmarkEstimate> landmark_estimates() { return estimator_.landmark_estimates(); }
+	/** The landmark ID each reading of each step was given (data association, or the reading's own ID):
+	 * assigned_ids()[k][i] for reading i of step k, in the order of that step's readings (O(readings)). */
+	std::vector<std::vector<std::int32_t>> assigned_ids() const { return estimator_.assigned_ids(); }
 
 	const SlidingWindowEstimator& estimator() const { return estimator_; }
 	const MrptStepConverter& converter() const { return converter_; }

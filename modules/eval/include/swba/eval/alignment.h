@@ -21,8 +21,11 @@ struct Sim3
 };
 
 /** Least-squares Sim(3) (with_scale) or SE(3) mapping src columns onto dst columns (Umeyama 1991,
- * via Eigen::umeyama; a reflection is never returned: det R = +1). src and dst are 3×N, N ≥ 1.
- * Throws std::invalid_argument on size mismatch, N = 0, or with_scale with src points all equal. */
+ * via Eigen::umeyama; a reflection is never returned: det R = +1). src and dst are 3×N.
+ * Throws std::invalid_argument on size mismatch, N = 0, a cross-covariance of rank < 2 (evo's
+ * "Degenerate covariance rank, Umeyama alignment is not possible": 1 or 2 points, or collinear ones;
+ * evo raises there too instead of returning a transform the data do not determine; it covers src
+ * points all equal, where no scale could be estimated either). */
 Sim3 umeyama_alignment(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst, bool with_scale);
 
 /** Alignment flags, as evo: align = `-a`, correct_scale = `-s`, align_origin = `--align-origin`.

@@ -19,8 +19,11 @@ namespace swba::eval
 /** `<dir>/<name>_ground_truth_robot_path.txt` for `<dir>/<name>.rawlog` (mrpt-common's naming). */
 std::string default_ground_truth_path(const std::string& rawlog_path);
 
-/** Reads the MRPT ground-truth robot path and checks it has at least steps + 1 rows (row k + 1 pairs
- * with the estimate after step k). Throws std::runtime_error naming the file. */
+/** Reads the ground truth and checks it has at least steps + 1 rows (row k + 1 pairs with the estimate
+ * after step k): MRPT's robot path (x y z yaw pitch roll), or a TUM trajectory (t x y z qx qy qz qw;
+ * a file named *.tum or whose first data line has 8 columns), also taken row by row, its stamps not
+ * used (swba run's gt.tum, t = row, reads back as the same rows). Throws std::runtime_error naming
+ * the file. */
 std::vector<mrpt::poses::CPose3D> read_ground_truth_for(const std::string& path, std::size_t steps);
 
 /** The ground truth as a TUM trajectory: row i at t = i. */

@@ -143,14 +143,11 @@ struct ErrorOverTime
 	std::string xlabel = "t (s or step)", ylabel;
 	std::vector<double> stamps, errors;  ///< one per pose
 	Statistics stats;  ///< of `errors` (rmse, mean, median, std are drawn)
-	/** Optional, one per pose: an uncertainty bound drawn as a dashed curve over the errors (e.g. 2σ of
-	 * the position error from the estimator's covariance); empty = none. */
-	std::vector<double> bound;
-	std::string bound_label;
 };
 
 /** The error curve with horizontal lines at rmse, mean and median and a band mean ± std (evo's
- * plot). */
+ * plot). The errors are norms: the y axis is set to 0 … 1.05 × the largest error, so the curve spans
+ * at least 95 % of it (autoscaled when every error is 0). */
 PlotOutput plot_error_over_time(const std::string& dir, const std::string& basename, const ErrorOverTime& plot,
 								const PlotOptions& options = {});
 

@@ -171,8 +171,13 @@ struct Rawlog
 Rawlog read_rawlog(const std::string& path, const RawlogReaderOptions& options = {});
 
 /** One line from an exception text: for MRPT's ("==== MRPT exception ====", "Message: …",
- * "Location: …", call stack) the message and "File.cpp:line"; otherwise the first non-empty line. */
-std::string mrpt_exception_summary(const std::string& what);
+ * "Location: …", call stack) the message and "File.cpp:line"; otherwise the first non-empty line.
+ * Control characters and bytes that may be raw file contents are written as \xNN; with `keep_utf8`
+ * (the terminal's locale is UTF-8) well-formed UTF-8 characters such as "≥" are kept as they are. */
+std::string mrpt_exception_summary(const std::string& what, bool keep_utf8 = false);
+
+/** Whether the environment's locale for characters (LC_ALL, else LC_CTYPE, else LANG) is UTF-8. */
+bool locale_is_utf8();
 
 /* MRPT ground-truth robot paths are read by swba::eval::read_mrpt_ground_truth (swba/eval/trajectory.h). */
 
