@@ -138,3 +138,23 @@ TEST(InertialSimulation, RejectsRatesThatDoNotDivide)
 	o.pose_rate = 0;
 	EXPECT_NO_THROW(o.validate());
 }
+
+TEST(InertialSimulation, OdometryIncrementNoiseHasTheDeclaredCovariance)
+{
+	InertialSimulationOptions o;
+	o.duration = 200;
+	const InertialDataset d = simulate_inertial(o);
+	Eigen::Matrix<double, 6, 1> z2 = Eigen::Matrix<double, 6, 1>::Zero();
+	const int every = int(o.imu_rate / o.odometry_rate);
+	for (size_t k = 1; k < d.odometry.size(); k++)
+	{
+		const mrpt::poses::CPose3D D = d.odometry[k].pose - d.odometry[k - 1].pose;	 // measured increment
+		const mrpt::poses::CPose3D T = d.truth[k * every].pose - d.truth[(k - 1) * every].pose;
+		const mrpt::poses::CPose3D E = T - D;  // D⁻¹ ⊕ T
+		Eigen::Matrix<double, 6, 1> e;
+		e << E.x(), E.y(), E.z(), so3_log(E.getRotationMatrix().asEigen());
+		for (int i = 0; i < 6; i++) z2[i] += e[i] * e[i] / d.odometry[k].covariance(i, i);
+	}
+	z2 /= double(d.odometry.size() - 1);
+	for (int i = 0; i < 6; i++) EXPECT_NEAR(z2[i], 1.0, 0.1) << i;
+}
