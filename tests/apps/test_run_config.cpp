@@ -44,7 +44,10 @@ std::string non_default_ini()
 		   "parameter_tolerance = 0.125\nlinear_solver = dense-normal\ndense_max_dim = 9\nthreads = 2\n"
 		   "[ekf]\nenabled = false\nmethods = kfIKF\nini_file = x.ini\n"
 		   "[sensor]\nstd_range_m = 0.5\nstd_yaw_deg = 2\nstd_pitch_deg = 3\n"
-		   "[odometry]\nmin_sigma_translation_m = 0.5\nmin_sigma_rotation_rad = 0.25\n";
+		   "[odometry]\nmin_sigma_translation_m = 0.5\nmin_sigma_rotation_rad = 0.25\n"
+		   "[sensors]\nimu = XSENS\npose_prior = MAP\nodometry = LIDAR\n"
+		   "[imu]\naccel_noise_density = 0.5\ngyro_noise_density = 0.25\naccel_random_walk = 0.125\n"
+		   "gyro_random_walk = 0.0625\ngravity_z = -9.8\n";
 }
 }  // namespace
 

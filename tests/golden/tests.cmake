@@ -91,3 +91,11 @@ add_test(NAME realdata.bounds_self_check
   COMMAND ${CMAKE_COMMAND} -DSUMMARY=${_golden}/selfcheck/realdata_over_bound.json -DONLINE_BOUND=2.5
           -P ${_golden}/realdata_bounds.cmake)
 set_tests_properties(realdata.bounds_self_check PROPERTIES WILL_FAIL TRUE)
+
+# swba run on an inertial (observation-format) rawlog that swba simulate-imu makes first: 20 s of the
+# figure-eight, consumer IMU at 100 Hz, pose priors and odometry at 10 Hz (doc/inertial.md).
+add_test(NAME golden.inertial_log_setup
+  COMMAND $<TARGET_FILE:swba> simulate-imu --duration 20 --out ${_golden_out}/inertial_log --name figure8)
+set_tests_properties(golden.inertial_log_setup PROPERTIES FIXTURES_SETUP inertial_log LABELS golden)
+swba_golden(run_inertial run ../inertial_log/figure8.rawlog --config ../inertial_log/figure8.ini --out <work>/out)
+set_tests_properties(golden.run_inertial PROPERTIES FIXTURES_REQUIRED inertial_log)

@@ -2,6 +2,7 @@
 
 #include <mrpt/poses/Lie/SO.h>
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <Eigen/SVD>
 #include <cmath>
@@ -46,6 +47,26 @@ double right_jacobian_inverse_coefficient(double theta_sq)
 }  // namespace
 
 // ---------------------------------------------------------------- SO(3) / SE(3)
+
+Eigen::Matrix3d so3_right_jacobian(const Eigen::Vector3d& phi)
+{
+	const RodriguesCoefficients k = rodrigues_coefficients(phi.squaredNorm());
+	const Eigen::Matrix3d S = skew(phi);
+	return Eigen::Matrix3d::Identity() - k.b * S + k.c * S * S;
+}
+
+Eigen::Matrix3d so3_exp(const Eigen::Vector3d& phi)
+{
+	mrpt::math::CVectorFixedDouble<3> w;
+	for (int i = 0; i < 3; i++) w[i] = phi[i];
+	return mrpt::poses::Lie::SO<3>::exp(w).asEigen();
+}
+
+Eigen::Vector3d so3_log(const Eigen::Matrix3d& R)
+{
+	const Eigen::AngleAxisd aa(Eigen::Quaterniond(R).normalized());
+	return aa.angle() * aa.axis();
+}
 
 Eigen::Matrix3d so3_right_jacobian_inverse(const Eigen::Vector3d& phi)
 {

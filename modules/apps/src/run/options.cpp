@@ -137,6 +137,8 @@ IniKeys<RunOptions> make_key_table()
 	append_keys(t, estimators::SensorNoiseOptions::ini_keys("sensor"), [](auto& o) -> auto& { return o.window.sensor; });
 	append_keys(t, io::OdometryInformationOptions::ini_keys("odometry"),
 				[](auto& o) -> auto& { return o.window.odometry; });
+	append_keys(t, io::SensorRoles::ini_keys("sensors"), [](auto& o) -> auto& { return o.sensors; });
+	append_keys(t, ImuNoise::ini_keys("imu"), [](auto& o) -> auto& { return o.imu; });
 	return t;
 }
 }  // namespace
@@ -356,5 +358,8 @@ void RunOptions::validate() const
 		w.policy = policy;
 		w.validate();
 	}
+	std::string why;
+	if (!imu.is_valid(&why)) throw std::invalid_argument("[imu]: " + why);
+	if (!sensors.is_valid(&why)) throw std::invalid_argument("[sensors]: " + why);
 }
 }  // namespace swba::apps

@@ -3,6 +3,7 @@
 #include "output_dir.h"
 #include "rows.h"
 
+#include <swba/apps/inertial_run.h>
 #include <swba/apps/run.h>
 #include <swba/eval/ground_truth.h>
 
@@ -336,6 +337,7 @@ RunReport run_app(const RunOptions& given, std::ostream& out, std::ostream& log,
 {
 	if (given.rawlog.empty()) throw std::invalid_argument("no rawlog given");
 	given.validate();
+	if (io::is_observation_rawlog(given.rawlog)) return run_inertial_app(given, out, log);
 
 	io::RawlogReaderOptions ro;
 	ro.max_steps = given.max_steps;

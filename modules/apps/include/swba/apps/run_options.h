@@ -1,6 +1,7 @@
 /** \file run_options.h
  * Options of `swba run` (swba::apps::RunOptions) and their INI file, in MRPT's
- * CLoadableOptions style (sections [run], [window], [solver], [ekf], [sensor], [odometry]; read with
+ * CLoadableOptions style (sections [run], [window], [solver], [ekf], [sensor], [odometry], and for
+ * inertial rawlogs [sensors], [imu]; read with
  * mrpt::config::CConfigFile). Each options struct declares its own keys next to itself
  * (SlidingWindowOptions, SolverOptions, SensorNoiseOptions, OdometryInformationOptions::ini_keys); this
  * file adds the run's own ([run], the window sweep, [ekf]) and composes them. Unlike MRPT, an unknown or misspelt section or key is an error
@@ -13,6 +14,8 @@
 
 #include <swba/core/ini.h>
 #include <swba/estimators/sliding_window.h>
+#include <swba/factors/imu_preintegration.h>
+#include <swba/io/observation_rawlog.h>
 
 #include <cstddef>
 #include <string>
@@ -62,6 +65,10 @@ struct RunOptions
 	 * odometry floors, gauge, landmarks. window_size, policy and first_estimate_jacobians are taken
 	 * from the lists above for each row. */
 	estimators::SlidingWindowOptions window;
+	/** Inertial rawlogs (observation format): which sensor label plays which role ([sensors]). */
+	io::SensorRoles sensors;
+	/** Inertial rawlogs: the IMU's noise densities, random walks and gravity ([imu]). */
+	ImuNoise imu;
 
 	/** Throws std::invalid_argument with a one-line reason naming the option. */
 	void validate() const;

@@ -32,6 +32,16 @@ struct RodriguesCoefficients
  * relative at θ = 0.1. */
 RodriguesCoefficients rodrigues_coefficients(double theta_sq);
 
+/** Right Jacobian of SO(3): Exp(φ + δ) = Exp(φ)·Exp(J_r(φ)·δ) + O(δ²); J_r(φ) = I − b·W + c·W² with
+ * W = [φ]× and b, c of rodrigues_coefficients. */
+Eigen::Matrix3d so3_right_jacobian(const Eigen::Vector3d& phi);
+
+/** Exp(φ) of SO(3) (mrpt::poses::Lie::SO<3>::exp). */
+Eigen::Matrix3d so3_exp(const Eigen::Vector3d& phi);
+
+/** Log(R) of SO(3) through a unit quaternion (Eigen::AngleAxisd), accurate up to and at π. */
+Eigen::Vector3d so3_log(const Eigen::Matrix3d& R);
+
 /** Inverse right Jacobian of SO(3): Log(Exp(φ)·Exp(δ)) = φ + J_r⁻¹(φ)·δ + O(δ²), for ‖φ‖ < 2π.
  * J_r⁻¹(φ) = I + ½[φ]× + (1/θ² − (1 + cos θ)/(2θ sin θ))·[φ]×², θ = ‖φ‖ (series below θ = 1e-4). */
 Eigen::Matrix3d so3_right_jacobian_inverse(const Eigen::Vector3d& phi);

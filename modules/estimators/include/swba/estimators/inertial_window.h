@@ -1,0 +1,64 @@
+/** \file inertial_window.h
+ * The inertial sliding window on the fixed-lag smoother (swba/smoother/fixed_lag_smoother.h): keyframes
+ * at the pose-prior times (at the odometry times when there is no prior), each with a PRVAG state —
+ * pose T ∈ SE(3) (SE3Manifold), velocity v ∈ ℝ³ (world), biases b = [b_a; b_g] ∈ ℝ⁶ — constrained by an
+ * ImuPreintegrationFactor between consecutive keyframes, a PosePriorFactor per pose prior, a
+ * BetweenPoseFactor per odometry increment between consecutive keyframes (increments composed when the
+ * odometry is faster than the keyframes) and Euclidean priors on the first velocity and biases. The oldest
+ * keyframe leaves with its velocity and biases through FixedLagSmoother::marginalize_oldest (the (J, e,
+ * x₀) prior and first-estimate Jacobians unchanged). After each update, an IMU factor whose b_i moved from
+ * its pre-integration's linearisation bias by more than the thresholds is re-integrated and replaced.
+ *
+ * Gauge: with pose priors the frame is fixed. Without them the first keyframe gets a pose prior from the
+ * odometry (InertialPriorOptions::odometry_pose_sigma on all six directions, of which only x, y, z and yaw
+ * are unobservable: roll and pitch are observed through gravity). */
+#pragma once
+
+#include <swba/estimators/inertial_filter.h>
+#include <swba/nonlinear/solver.h>
+
+#include <cstddef>
+
+namespace swba::estimators
+{
+struct InertialWindowOptions
+{
+	/** Keyframes in the window (≥ 2); 0 = unbounded (full history, nothing marginalised). (Default = 10) */
+	int window_size = 10;
+	/** First-estimate Jacobians for the factors touching the marginal prior. (Default = true) */
+	bool first_estimate_jacobians = true;
+	/** Measurements, noise and initial priors (shared with the filter). */
+	InertialFilterOptions measurements;
+	/** Re-integrate an IMU factor when |b_a − b̄_a| exceeds this (any axis), m/s². (Default = 0.02) */
+	double reintegrate_accel = 0.02;
+	/** Re-integrate an IMU factor when |b_g − b̄_g| exceeds this (any axis), rad/s. (Default = 0.002) */
+	double reintegrate_gyro = 0.002;
+	/** Recover the newest pose's marginal covariance after each update. (Default = true) */
+	bool covariances = true;
+	/** LM options of each update (Default: 10 iterations at most, initial trust region radius 1e12: see
+	 * default_solver()). */
+	SolverOptions solver = default_solver();
+
+	static SolverOptions default_solver();
+	/** Throws std::invalid_argument naming the option. */
+	void validate() const;
+};
+
+/** A window run: the online estimate (the newest keyframe after its update), the lagged estimate (each
+ * keyframe when it leaves the window, the rest at the end), the cost per keyframe and what was re-integrated. */
+struct InertialWindowResult
+{
+	InertialTrajectory online;
+	InertialTrajectory lagged;
+	std::vector<double> seconds_per_keyframe;  ///< wall time of each keyframe's update + marginalisation
+	std::size_t reintegrations = 0;
+	std::size_t relative_factors = 0;
+	std::size_t prior_factors = 0;
+};
+
+/** Runs the window over the input. Throws std::invalid_argument on invalid options or input. */
+InertialWindowResult run_inertial_window(const InertialInput& input, const InertialWindowOptions& options);
+
+/** The same factor graph over all keyframes, solved once at the end (the smoother's batch run). */
+InertialTrajectory run_inertial_batch(const InertialInput& input, const InertialWindowOptions& options);
+}  // namespace swba::estimators

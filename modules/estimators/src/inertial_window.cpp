@@ -1,0 +1,361 @@
+#include <swba/estimators/inertial_window.h>
+
+#include <swba/core/manifold.h>
+#include <swba/factors/between_pose.h>
+#include <swba/factors/imu_factor.h>
+#include <swba/factors/pose_prior.h>
+#include <swba/smoother/fixed_lag_smoother.h>
+
+#include <Eigen/LU>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <optional>
+#include <stdexcept>
+
+namespace swba::estimators
+{
+SolverOptions InertialWindowOptions::default_solver()
+{
+	SolverOptions s;
+	s.max_iterations = 10;
+	// Nearly Gauss-Newton from the start: the bias random-walk rows are stiff (information 1/(σ_b² Δt),
+	// up to 1e15), so Marquardt's damping λ·diag(JᵀJ) with λ = 1e-4 all but freezes the biases' common
+	// motion, which only the weak pre-integrated deltas determine; LM then needs tens of iterations to grow
+	// its trust region. The window starts from the IMU prediction, close to the optimum.
+	s.initial_trust_region_radius = 1e12;
+	return s;
+}
+
+void InertialWindowOptions::validate() const
+{
+	if (window_size == 1 || window_size < 0) throw std::invalid_argument("window_size must be 0 or >= 2");
+	std::string why;
+	if (!measurements.noise.is_valid(&why) || !measurements.prior.is_valid(&why)) throw std::invalid_argument(why);
+	if (!(reintegrate_accel > 0) || !(reintegrate_gyro > 0))
+		throw std::invalid_argument("re-integration thresholds must be positive");
+}
+
+namespace
+{
+struct Relative
+{
+	mrpt::poses::CPose3D D;
+	Matrix6d covariance;
+};
+
+/** What a keyframe brings: its time, its pose prior and the odometry increment from the previous one. */
+struct KeyframeData
+{
+	double t = 0;
+	std::optional<io::PoseReading> prior;
+	std::optional<Relative> relative;
+};
+
+/** The odometry reading at time t (within 1 µs), if any. */
+std::optional<std::size_t> odometry_at(const std::vector<io::PoseReading>& odo, double t)
+{
+	for (std::size_t k = 0; k < odo.size(); k++)
+		if (std::abs(odo[k].t - t) < 1e-6) return k;
+	return std::nullopt;
+}
+
+/** The increments a→b of the odometry composed, D = D_{a+1}·…·D_b, with covariance moved into D's tangent
+ * step by step: D·Exp(δ)·D_k = (D·D_k)·Exp(A_k δ), A_k = right_factor_adjoint(D_k). */
+Relative composed_increment(const std::vector<io::PoseReading>& odo, std::size_t a, std::size_t b)
+{
+	Relative r{mrpt::poses::CPose3D(), Matrix6d::Zero()};
+	for (std::size_t k = a + 1; k <= b; k++)
+	{
+		const mrpt::poses::CPose3D Dk = odo[k].pose - odo[k - 1].pose;
+		const Matrix6d A = io::right_factor_adjoint(Dk);
+		r.D = r.D + Dk;
+		r.covariance = A * r.covariance * A.transpose() + odo[k].covariance;
+	}
+	return r;
+}
+
+std::vector<KeyframeData> keyframes(const InertialInput& in, const InertialFilterOptions& o, double t0)
+{
+	const bool from_priors = !in.pose_priors.empty();
+	std::vector<KeyframeData> out;
+	std::optional<std::size_t> prev_odo;
+	const std::vector<double> times = inertial_report_times(in);
+	for (std::size_t i = 0; i < times.size(); i++)
+	{
+		if (times[i] < t0 || times[i] > in.imu.back().t) continue;
+		KeyframeData k;
+		k.t = times[i];
+		if (from_priors && (o.use_pose_priors || out.empty())) k.prior = in.pose_priors[i];
+		const std::optional<std::size_t> odo = o.use_odometry ? odometry_at(in.odometry, k.t) : std::nullopt;
+		if (odo && prev_odo && !out.empty()) k.relative = composed_increment(in.odometry, *prev_odo, *odo);
+		if (odo) prev_odo = odo;
+		out.push_back(std::move(k));
+	}
+	return out;
+}
+
+/** The readings from t_i to t_j: interpolated at both ends, every reading strictly inside. */
+std::vector<ImuSample> interval_samples(const std::vector<ImuSample>& imu, std::size_t& cursor, double ti, double tj)
+{
+	while (cursor + 1 < imu.size() && imu[cursor + 1].t <= ti) cursor++;
+	std::vector<ImuSample> s{interpolate_imu(imu[cursor], imu[std::min(cursor + 1, imu.size() - 1)], ti)};
+	std::size_t k = cursor + 1;
+	for (; k < imu.size() && imu[k].t < tj; k++)
+		if (imu[k].t > ti) s.push_back(imu[k]);
+	s.push_back(interpolate_imu(imu[k - 1], imu[std::min(k, imu.size() - 1)], tj));
+	return s;
+}
+
+Matrix6d information(const Matrix6d& covariance) { return covariance.inverse(); }
+
+mrpt::poses::CPose3D make_pose(const NavState& x)
+{
+	double v[12];
+	auto T = se3_view(v);
+	T.leftCols<3>() = x.R;
+	T.col(3) = x.p;
+	return SE3Manifold::to_pose(v);
+}
+
+/** The window's factor graph on the smoother. */
+class InertialGraph
+{
+   public:
+	InertialGraph(const InertialWindowOptions& o, const InertialInput& in, int lag)
+		: o_(o), in_(in), sm_(smoother_options(o, lag))
+	{
+	}
+
+	void add_first(const InertialInitialState& init, const KeyframeData& k);
+	/** Adds keyframe k; its initial value is the IMU prediction from the previous keyframe, or `guess`. */
+	void add_next(const KeyframeData& k, const std::optional<std::pair<NavState, Vector6d>>& guess = std::nullopt);
+	/** update(), the online record, then re-integration of the IMU factors whose bias moved. */
+	void update(InertialTrajectory& online);
+	bool over_lag() const { return sm_.over_lag(); }
+	/** Records the oldest keyframe in `lagged` and marginalises it. */
+	void marginalize_oldest(InertialTrajectory& lagged);
+	void record_all(InertialTrajectory& out) const;
+	Summary solve(const SolverOptions& s) { return sm_.solve(s); }
+	/** Re-integrates the IMU factors whose bias moved (after a solve). */
+	std::size_t reintegrate_moved()
+	{
+		const std::size_t before = reintegrations;
+		reintegrate();
+		return reintegrations - before;
+	}
+	/** Sets the first keyframe's velocity and biases (the batch's initial values). */
+	void set_first(const NavState& x, const Vector6d& b);
+	std::size_t reintegrations = 0, relative_factors = 0, prior_factors = 0;
+
+   private:
+	struct Kf
+	{
+		double t;
+		VariableId T, v, b;
+		FactorId imu = -1;
+		std::shared_ptr<const ImuPreintegration> pim;
+	};
+	static smoother::FixedLagSmootherOptions smoother_options(const InertialWindowOptions& o, int lag)
+	{
+		smoother::FixedLagSmootherOptions s;
+		s.lag = lag;
+		s.first_estimate_jacobians = o.first_estimate_jacobians;
+		s.solver = o.solver;
+		return s;
+	}
+	NavState nav(const Kf& k) const;
+	Vector6d bias(const Kf& k) const { return Eigen::Map<const Vector6d>(sm_.problem().value(k.b)); }
+	void add_pose_prior(const Kf& k, const mrpt::poses::CPose3D& Z, const Matrix6d& covariance);
+	void record(InertialTrajectory& out, const Kf& k, const Matrix6d& covariance) const;
+	void reintegrate();
+
+	InertialWindowOptions o_;
+	const InertialInput& in_;
+	smoother::FixedLagSmoother sm_;
+	std::deque<Kf> kfs_;
+	std::size_t cursor_ = 0;
+};
+
+NavState InertialGraph::nav(const Kf& k) const
+{
+	NavState x;
+	const auto T = se3_view(sm_.problem().value(k.T));
+	x.R = T.leftCols<3>();
+	x.p = T.col(3);
+	x.v = Eigen::Map<const Eigen::Vector3d>(sm_.problem().value(k.v));
+	return x;
+}
+
+void InertialGraph::add_pose_prior(const Kf& k, const mrpt::poses::CPose3D& Z, const Matrix6d& covariance)
+{
+	auto f = std::make_shared<PosePriorFactor>(Z);
+	f->set_information(information(covariance));
+	sm_.add_factor(f, {k.T});
+	prior_factors++;
+}
+
+void InertialGraph::add_first(const InertialInitialState& init, const KeyframeData& k)
+{
+	Problem& p = sm_.problem();
+	Kf kf{k.t, p.add_pose(make_pose(init.x)), p.add_variable(Eigen::VectorXd(init.x.v), euclidean_manifold(3)),
+		  p.add_variable(Eigen::VectorXd(init.bias), euclidean_manifold(6)), -1, nullptr};
+	sm_.add_state(k.t, kf.T);
+	if (k.prior)
+		add_pose_prior(kf, k.prior->pose, k.prior->covariance);
+	else
+	{
+		const Eigen::Matrix3d Rt = init.x.R.transpose();
+		Matrix6d A = Matrix6d::Identity();	// the filter's [δp (world), δφ] to the manifold's [ρ (body), ω]
+		A.topLeftCorner<3, 3>() = Rt;
+		add_pose_prior(kf, make_pose(init.x), A * init.P.topLeftCorner<6, 6>() * A.transpose());
+	}
+	auto pv = std::make_shared<EuclideanPriorFactor>(Eigen::VectorXd(init.x.v));
+	pv->set_information(init.P.block<3, 3>(6, 6).inverse());
+	sm_.add_factor(pv, {kf.v});
+	auto pb = std::make_shared<EuclideanPriorFactor>(Eigen::VectorXd(init.bias));
+	pb->set_information(init.P.block<6, 6>(9, 9).inverse());
+	sm_.add_factor(pb, {kf.b});
+	kfs_.push_back(kf);
+}
+
+void InertialGraph::add_next(const KeyframeData& k, const std::optional<std::pair<NavState, Vector6d>>& guess)
+{
+	const Kf& prev = kfs_.back();
+	const Vector6d b = bias(prev);
+	auto pim = std::make_shared<ImuPreintegration>(o_.measurements.noise, b);
+	for (const ImuSample& s : interval_samples(in_.imu, cursor_, prev.t, k.t)) pim->add_sample(s);
+	const NavState x = guess ? guess->first : pim->predict(nav(prev), b);
+	const Vector6d bj = guess ? guess->second : b;
+	Problem& p = sm_.problem();
+	Kf kf{k.t, p.add_pose(make_pose(x)), p.add_variable(Eigen::VectorXd(x.v), euclidean_manifold(3)),
+		  p.add_variable(Eigen::VectorXd(bj), euclidean_manifold(6)), -1, nullptr};
+	kf.pim = pim;
+	sm_.add_state(k.t, kf.T);
+	kf.imu = sm_.add_factor(std::make_shared<ImuPreintegrationFactor>(pim), {prev.T, prev.v, prev.b, kf.T, kf.v, kf.b});
+	if (k.prior) add_pose_prior(kf, k.prior->pose, k.prior->covariance);
+	if (k.relative)
+	{
+		auto f = std::make_shared<BetweenPoseFactor>(k.relative->D);
+		f->set_information(information(k.relative->covariance));
+		sm_.add_factor(f, {prev.T, kf.T});
+		relative_factors++;
+	}
+	kfs_.push_back(kf);
+}
+
+void InertialGraph::record(InertialTrajectory& out, const Kf& k, const Matrix6d& covariance) const
+{
+	const NavState x = nav(k);
+	out.t.push_back(k.t);
+	out.poses.push_back(make_pose(x));
+	out.velocities.push_back(x.v);
+	out.biases.push_back(bias(k));
+	out.pose_covariances.push_back(covariance);
+}
+
+void InertialGraph::update(InertialTrajectory& online)
+{
+	CovarianceRequest request;
+	if (o_.covariances) request.groups.push_back({kfs_.back().T});
+	const smoother::UpdateSummary u = sm_.update([](VariableId) { return false; }, request);
+	const bool ok = o_.covariances && u.covariance.ok && !u.covariance.blocks.empty();
+	record(online, kfs_.back(), ok ? Matrix6d(u.covariance.blocks[0]) : Matrix6d::Zero());
+	reintegrate();
+}
+
+void InertialGraph::reintegrate()
+{
+	for (std::size_t i = 1; i < kfs_.size(); i++)
+	{
+		Kf& k = kfs_[i];
+		const Vector6d b = bias(kfs_[i - 1]);
+		if (!k.pim || !k.pim->bias_far(b, o_.reintegrate_accel, o_.reintegrate_gyro)) continue;
+		auto pim = std::make_shared<ImuPreintegration>(*k.pim);
+		pim->reintegrate(b);
+		sm_.problem().remove_factor(k.imu);
+		const Kf& prev = kfs_[i - 1];
+		k.imu = sm_.add_factor(std::make_shared<ImuPreintegrationFactor>(pim), {prev.T, prev.v, prev.b, k.T, k.v, k.b});
+		k.pim = pim;
+		reintegrations++;
+	}
+}
+
+void InertialGraph::marginalize_oldest(InertialTrajectory& lagged)
+{
+	record(lagged, kfs_.front(), Matrix6d::Zero());
+	sm_.marginalize_oldest({kfs_.front().v, kfs_.front().b});
+	kfs_.pop_front();
+	kfs_.front().pim.reset();  // its IMU factor went into the prior
+	kfs_.front().imu = -1;
+}
+
+void InertialGraph::set_first(const NavState& x, const Vector6d& b)
+{
+	Problem& p = sm_.problem();
+	p.set_pose(kfs_.front().T, make_pose(x));
+	p.set_value(kfs_.front().v, x.v.data());
+	p.set_value(kfs_.front().b, b.data());
+}
+
+void InertialGraph::record_all(InertialTrajectory& out) const
+{
+	for (const Kf& k : kfs_) record(out, k, Matrix6d::Zero());
+}
+}  // namespace
+
+InertialWindowResult run_inertial_window(const InertialInput& in, const InertialWindowOptions& o)
+{
+	o.validate();
+	const InertialInitialState init = initial_inertial_state(in, o.measurements.prior);
+	const std::vector<KeyframeData> kd = keyframes(in, o.measurements, init.t);
+	if (kd.empty()) throw std::invalid_argument("inertial window: no keyframe");
+	InertialGraph g(o, in, o.window_size);
+	InertialWindowResult r;
+	for (std::size_t i = 0; i < kd.size(); i++)
+	{
+		const auto start = std::chrono::steady_clock::now();
+		if (i == 0)
+			g.add_first(init, kd[0]);
+		else
+			g.add_next(kd[i]);
+		g.update(r.online);
+		while (g.over_lag()) g.marginalize_oldest(r.lagged);
+		r.seconds_per_keyframe.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+	}
+	g.record_all(r.lagged);
+	r.reintegrations = g.reintegrations;
+	r.relative_factors = g.relative_factors;
+	r.prior_factors = g.prior_factors;
+	return r;
+}
+
+InertialTrajectory run_inertial_batch(const InertialInput& in, const InertialWindowOptions& o)
+{
+	o.validate();
+	const InertialInitialState init = initial_inertial_state(in, o.measurements.prior);
+	const std::vector<KeyframeData> kd = keyframes(in, o.measurements, init.t);
+	if (kd.empty()) throw std::invalid_argument("inertial batch: no keyframe");
+	// Initial values from the filter (IMU dead reckoning over the whole run would be far off).
+	const InertialTrajectory f = run_inertial_filter(in, o.measurements);
+	if (f.t.size() != kd.size()) throw std::logic_error("inertial batch: filter and keyframe times differ");
+	auto guess = [&f](std::size_t i) {
+		NavState x;
+		x.R = f.poses[i].getRotationMatrix().asEigen();
+		x.p = Eigen::Vector3d(f.poses[i].x(), f.poses[i].y(), f.poses[i].z());
+		x.v = f.velocities[i];
+		return std::make_pair(x, f.biases[i]);
+	};
+	InertialGraph g(o, in, 0);
+	g.add_first(init, kd[0]);
+	g.set_first(guess(0).first, guess(0).second);
+	for (std::size_t i = 1; i < kd.size(); i++) g.add_next(kd[i], guess(i));
+	SolverOptions s = o.solver;
+	s.max_iterations = 50;
+	g.solve(s);
+	if (g.reintegrate_moved() > 0) g.solve(s);
+	InertialTrajectory out;
+	g.record_all(out);
+	return out;
+}
+}  // namespace swba::estimators
