@@ -45,8 +45,8 @@ int run_simulate_imu(int argc, char** argv)
 	TCLAP::ValueArg<unsigned long> seed("", "seed", "random seed (Default: 1)", false, 1, "S");
 	TCLAP::ValueArg<std::string> out("", "out", "output directory, created (Default: .)", false, ".", "DIR");
 	TCLAP::ValueArg<std::string> name("", "name", "base name (Default: <trajectory>_<grade>_seed<S>)", false, "", "NAME");
-	for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&name, &out, &seed, &noise_free, &rdrift, &drift, &sigma_deg,
-															 &sigma_m, &odo_rate, &pose_rate, &imu_rate, &duration, &grade, &traj})
+	for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&traj, &grade, &duration, &imu_rate, &pose_rate, &odo_rate,
+															 &sigma_m, &sigma_deg, &drift, &rdrift, &noise_free, &seed, &out, &name})
 		cmd.add(*a);
 	if (auto rc = parse_command_line(cmd, argc, argv)) return *rc;
 	try
