@@ -9,9 +9,9 @@
  * x₀) prior and first-estimate Jacobians unchanged). After each update, an IMU factor whose b_i moved from
  * its pre-integration's linearisation bias by more than the thresholds is re-integrated and replaced.
  *
- * Gauge: with pose priors the frame is fixed. Without them the first keyframe gets a pose prior from the
- * odometry (InertialPriorOptions::odometry_pose_sigma on all six directions, of which only x, y, z and yaw
- * are unobservable: roll and pitch are observed through gravity). */
+ * Gauge: with pose priors the frame is fixed. Without them (IMU + relative poses) x, y, z and yaw are
+ * unobservable: the first keyframe gets a prior from the odometry that holds those four tightly and leaves
+ * roll and pitch to gravity (InertialPriorOptions::odometry_pose_sigma, odometry_tilt_sigma). */
 #pragma once
 
 #include <swba/estimators/inertial_filter.h>
