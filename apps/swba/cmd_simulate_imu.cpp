@@ -12,15 +12,16 @@ namespace swba::app
 {
 namespace
 {
-int run_simulate_imu(int argc, char** argv)
-{
-	TCLAP::CmdLine cmd(
+const char* const kAbout =
 		"Makes an inertial observation-format rawlog (CObservationIMU 'IMU', CObservationRobotPose 'MAP_MATCHING' "
 		"pose priors and 'LIDAR_ODOMETRY' drifting odometry) from an analytic trajectory, deterministic per seed: "
 		"DIR/NAME.rawlog, DIR/NAME_ground_truth.tum (every IMU time), DIR/NAME_ground_truth_robot_path.txt (MRPT "
 		"format, one row per pose prior), DIR/NAME_ground_truth_state.txt (pose, velocity, biases) and DIR/NAME.ini "
-		"(sensor roles and IMU noise for swba run).",
-		' ', "0.1.0");
+		"(sensor roles and IMU noise for swba run).";
+
+int run_simulate_imu(int argc, char** argv)
+{
+	TCLAP::CmdLine cmd(kAbout, ' ', "0.1.0");
 	using problems::ImuGrade;
 	using problems::InertialTrajectoryKind;
 	apps::InertialSimulateOptions o;
