@@ -1,5 +1,6 @@
 // The inertial sliding window on simulated data: agreement with the filter on a short near-linear case,
 // and its accuracy against the filter, the full-history optimum and the batch solution.
+#include <swba/core/chi2.h>
 #include <swba/core/lie.h>
 #include <swba/estimators/inertial_window.h>
 #include <swba/problems/inertial_simulation.h>
@@ -153,4 +154,51 @@ TEST(InertialWindow, ImuAndOdometryOnlyHoldTheFourDofGaugeAndRecoverTheTilt)
 		else
 			EXPECT_GT(first_tilt, 1.5 * M_PI / 180);
 	}
+}
+
+namespace
+{
+/** The window's (W = 10, online) position NEES over `runs` simulated runs of 30 s: the fraction of
+ * keyframes whose average over the runs is inside the 95 % band of the average of `runs` χ²(3). */
+double window_nees_fraction_inside(int runs, bool use_odometry)
+{
+	std::vector<double> sum;
+	for (int r = 0; r < runs; r++)
+	{
+		InertialSimulationOptions s;
+		s.duration = 30;
+		s.seed = 100 + r;
+		const InertialDataset d = simulate_inertial(s);
+		InertialWindowOptions o = window_options(d, s.grade, 10);
+		o.measurements.use_odometry = use_odometry;
+		const InertialTrajectory tr = run_inertial_window(input_of(d), o).online;
+		if (sum.empty()) sum.assign(tr.t.size(), 0.0);
+		for (size_t i = 0; i < tr.t.size(); i++)
+		{
+			const Eigen::Vector3d e = position(d.truth.at(std::lround(tr.t[i] * s.imu_rate)).pose - tr.poses[i]);
+			sum[i] += e.dot(tr.pose_covariances[i].topLeftCorner<3, 3>().ldlt().solve(e));
+		}
+	}
+	const double lo = chi2_quantile(0.025, 3 * runs) / runs, hi = chi2_quantile(0.975, 3 * runs) / runs;
+	int inside = 0;
+	double mean = 0;
+	for (double x : sum)
+	{
+		inside += (x / runs >= lo && x / runs <= hi);
+		mean += x / runs / sum.size();
+	}
+	std::printf("[window] position NEES over %d runs (%s): mean %.2f, %.0f %% of %zu keyframes inside [%.2f, %.2f]\n",
+				runs, use_odometry ? "priors + odometry" : "priors only", mean, 100.0 * inside / sum.size(), sum.size(),
+				lo, hi);
+	return double(inside) / sum.size();
+}
+}  // namespace
+
+TEST(InertialWindow, PositionNeesWithPosePriorsInsideTheBand) { EXPECT_GE(window_nees_fraction_inside(20, false), 0.9); }
+
+// Known failure, disabled, as the filter's (which the window agrees with): overconfident in position when
+// the odometry is fused. Run with --gtest_also_run_disabled_tests.
+TEST(InertialWindow, DISABLED_PositionNeesWithOdometryInsideTheBand)
+{
+	EXPECT_GE(window_nees_fraction_inside(20, true), 0.9);
 }
