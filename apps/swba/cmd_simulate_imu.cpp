@@ -12,15 +12,16 @@ namespace swba::app
 {
 namespace
 {
-int run_simulate_imu(int argc, char** argv)
-{
-	TCLAP::CmdLine cmd(
+const char* const kAbout =
 		"Makes an inertial observation-format rawlog (CObservationIMU 'IMU', CObservationRobotPose 'MAP_MATCHING' "
 		"pose priors and 'LIDAR_ODOMETRY' drifting odometry) from an analytic trajectory, deterministic per seed: "
 		"DIR/NAME.rawlog, DIR/NAME_ground_truth.tum (every IMU time), DIR/NAME_ground_truth_robot_path.txt (MRPT "
 		"format, one row per pose prior), DIR/NAME_ground_truth_state.txt (pose, velocity, biases) and DIR/NAME.ini "
-		"(sensor roles and IMU noise for swba run).",
-		' ', "0.1.0");
+		"(sensor roles and IMU noise for swba run).";
+
+int run_simulate_imu(int argc, char** argv)
+{
+	TCLAP::CmdLine cmd(kAbout, ' ', "0.1.0");
 	using problems::ImuGrade;
 	using problems::InertialTrajectoryKind;
 	apps::InertialSimulateOptions o;
@@ -45,8 +46,8 @@ int run_simulate_imu(int argc, char** argv)
 	TCLAP::ValueArg<unsigned long> seed("", "seed", "random seed (Default: 1)", false, 1, "S");
 	TCLAP::ValueArg<std::string> out("", "out", "output directory, created (Default: .)", false, ".", "DIR");
 	TCLAP::ValueArg<std::string> name("", "name", "base name (Default: <trajectory>_<grade>_seed<S>)", false, "", "NAME");
-	for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&name, &out, &seed, &noise_free, &rdrift, &drift, &sigma_deg,
-															 &sigma_m, &odo_rate, &pose_rate, &imu_rate, &duration, &grade, &traj})
+	for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&traj, &grade, &duration, &imu_rate, &pose_rate, &odo_rate,
+															 &sigma_m, &sigma_deg, &drift, &rdrift, &noise_free, &seed, &out, &name})
 		cmd.add(*a);
 	if (auto rc = parse_command_line(cmd, argc, argv)) return *rc;
 	try

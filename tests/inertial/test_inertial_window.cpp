@@ -1,5 +1,6 @@
 // The inertial sliding window on simulated data: agreement with the filter on a short near-linear case,
 // and its accuracy against the filter, the full-history optimum and the batch solution.
+#include <swba/core/chi2.h>
 #include <swba/core/lie.h>
 #include <swba/estimators/inertial_window.h>
 #include <swba/problems/inertial_simulation.h>
@@ -7,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 
 using namespace swba;
@@ -73,10 +75,16 @@ TEST(InertialWindow, AgreesWithTheFilterOnAShortNearLinearCase)
 
 TEST(InertialWindow, OnlineMatchesTheFilterAndSmoothingImprovesOnIt)
 {
-	for (auto kind : {InertialTrajectoryKind::FigureEight, InertialTrajectoryKind::Car})
+	// The tactical grade's bias random walk makes rows of information ~1e15 next to pose priors of ~4:
+	// a marginalisation threshold relative to the largest pivot must not cut the latter.
+	const std::pair<InertialTrajectoryKind, ImuGrade> cases[] = {{InertialTrajectoryKind::FigureEight, ImuGrade::Consumer},
+																  {InertialTrajectoryKind::Car, ImuGrade::Consumer},
+																  {InertialTrajectoryKind::FigureEight, ImuGrade::Tactical}};
+	for (const auto& [kind, grade] : cases)
 	{
 		InertialSimulationOptions s;
 		s.trajectory = kind;
+		s.grade = grade;
 		s.duration = 30;
 		const InertialDataset d = simulate_inertial(s);
 		const InertialInput in = input_of(d);
@@ -86,12 +94,111 @@ TEST(InertialWindow, OnlineMatchesTheFilterAndSmoothingImprovesOnIt)
 		const InertialWindowResult w30 = run_inertial_window(in, window_options(d, s.grade, 30));
 		const double on10 = rmse(w10.online, d, s.imu_rate), lag10 = rmse(w10.lagged, d, s.imu_rate),
 					 lag30 = rmse(w30.lagged, d, s.imu_rate);
-		std::printf("[window] %-8s ESKF %.4f, W=10 online %.4f lagged %.4f, W=30 lagged %.4f, batch %.4f m\n",
-					enum_name(kind).c_str(), eskf, on10, lag10, lag30, batch);
+		std::printf("[window] %-8s %-8s ESKF %.4f, W=10 online %.4f lagged %.4f, W=30 lagged %.4f, batch %.4f m\n",
+					enum_name(kind).c_str(), enum_name(grade).c_str(), eskf, on10, lag10, lag30, batch);
 		EXPECT_LE(on10, 1.01 * eskf);  // the online window is the causal estimate, as the filter
 		EXPECT_LT(lag10, on10);		   // smoothing over the window helps...
 		EXPECT_LT(lag30, lag10);	   // ...the more, the longer the window
 		EXPECT_LT(batch, lag30);	   // and the batch solution uses everything
 		EXPECT_GT(w10.relative_factors, 0u);
 	}
+}
+
+namespace
+{
+/** Angle between the true and the estimated gravity direction in the body frame (roll and pitch error). */
+double tilt_error(const mrpt::poses::CPose3D& est, const mrpt::poses::CPose3D& truth)
+{
+	const Eigen::Vector3d z(0, 0, 1);
+	const Eigen::Vector3d a = est.getRotationMatrix().asEigen().transpose() * z,
+						  b = truth.getRotationMatrix().asEigen().transpose() * z;
+	return std::acos(std::clamp(a.dot(b), -1.0, 1.0));
+}
+}  // namespace
+
+TEST(InertialWindow, ImuAndOdometryOnlyHoldTheFourDofGaugeAndRecoverTheTilt)
+{
+	// No pose prior; the odometry's frame is rolled by 2° against gravity. x, y, z and yaw are the gauge (held
+	// by the first pose's prior); roll and pitch are observable and must come back to the truth.
+	InertialSimulationOptions s;
+	s.duration = 30;
+	s.pose_rate = 0;
+	const InertialDataset d = simulate_inertial(s);
+	InertialInput in = input_of(d);
+	const mrpt::poses::CPose3D Q(0, 0, 0, 0, 0, 2.0 * M_PI / 180);
+	for (auto& z : in.odometry) z.pose = Q + z.pose;
+	for (double tilt_sigma : {0.1, 1e-3})
+	{
+		InertialWindowOptions o = window_options(d, s.grade, 10);
+		o.measurements.prior.odometry_tilt_sigma = tilt_sigma;
+		const InertialWindowResult w = run_inertial_window(in, o);
+		const InertialTrajectory f = run_inertial_filter(in, o.measurements);
+		const double window_tilt = tilt_error(w.online.poses.back(), d.truth.at(std::lround(w.online.t.back() * s.imu_rate)).pose);
+		const double filter_tilt = tilt_error(f.poses.back(), d.truth.at(std::lround(f.t.back() * s.imu_rate)).pose);
+		const double first_tilt = tilt_error(w.lagged.poses.front(), d.truth.at(std::lround(w.lagged.t.front() * s.imu_rate)).pose);
+		// The gauge: the first keyframe stays at the odometry's first pose in x, y, z and yaw.
+		const mrpt::poses::CPose3D& first = w.lagged.poses.front();
+		const double gauge_drift = std::hypot(std::hypot(first.x() - in.odometry[0].pose.x(), first.y() - in.odometry[0].pose.y()),
+											  first.z() - in.odometry[0].pose.z());
+		std::printf("[gauge] tilt sigma %g: tilt error of the first keyframe %.3f deg, final window %.3f deg, filter "
+					"%.3f deg; first pose moved %.2g m, yaw %.2g rad\n",
+					tilt_sigma, first_tilt * 180 / M_PI, window_tilt * 180 / M_PI, filter_tilt * 180 / M_PI, gauge_drift,
+					std::abs(first.yaw() - in.odometry[0].pose.yaw()));
+		EXPECT_LT(gauge_drift, 5e-3);
+		EXPECT_LT(std::abs(first.yaw() - in.odometry[0].pose.yaw()), 5e-3);
+		EXPECT_LT(window_tilt, 0.3 * M_PI / 180);  // gravity levels the later keyframes either way...
+		EXPECT_LT(filter_tilt, 0.3 * M_PI / 180);
+		// ...and the first one (estimated from the 1 s it spends in the window) only when its prior lets it.
+		if (tilt_sigma > 0.01)
+			EXPECT_LT(first_tilt, 1.0 * M_PI / 180);
+		else
+			EXPECT_GT(first_tilt, 1.5 * M_PI / 180);
+	}
+}
+
+namespace
+{
+/** The window's (W = 10, online) position NEES over `runs` simulated runs of 30 s: the fraction of
+ * keyframes whose average over the runs is inside the 95 % band of the average of `runs` χ²(3). */
+double window_nees_fraction_inside(int runs, bool use_odometry)
+{
+	std::vector<double> sum;
+	for (int r = 0; r < runs; r++)
+	{
+		InertialSimulationOptions s;
+		s.duration = 30;
+		s.seed = 100 + r;
+		const InertialDataset d = simulate_inertial(s);
+		InertialWindowOptions o = window_options(d, s.grade, 10);
+		o.measurements.use_odometry = use_odometry;
+		const InertialTrajectory tr = run_inertial_window(input_of(d), o).online;
+		if (sum.empty()) sum.assign(tr.t.size(), 0.0);
+		for (size_t i = 0; i < tr.t.size(); i++)
+		{
+			const Eigen::Vector3d e = position(d.truth.at(std::lround(tr.t[i] * s.imu_rate)).pose - tr.poses[i]);
+			sum[i] += e.dot(tr.pose_covariances[i].topLeftCorner<3, 3>().ldlt().solve(e));
+		}
+	}
+	const double lo = chi2_quantile(0.025, 3 * runs) / runs, hi = chi2_quantile(0.975, 3 * runs) / runs;
+	int inside = 0;
+	double mean = 0;
+	for (double x : sum)
+	{
+		inside += (x / runs >= lo && x / runs <= hi);
+		mean += x / runs / sum.size();
+	}
+	std::printf("[window] position NEES over %d runs (%s): mean %.2f, %.0f %% of %zu keyframes inside [%.2f, %.2f]\n",
+				runs, use_odometry ? "priors + odometry" : "priors only", mean, 100.0 * inside / sum.size(), sum.size(),
+				lo, hi);
+	return double(inside) / sum.size();
+}
+}  // namespace
+
+TEST(InertialWindow, PositionNeesWithPosePriorsInsideTheBand) { EXPECT_GE(window_nees_fraction_inside(20, false), 0.9); }
+
+// Known failure, disabled, as the filter's (which the window agrees with): overconfident in position when
+// the odometry is fused. Run with --gtest_also_run_disabled_tests.
+TEST(InertialWindow, DISABLED_PositionNeesWithOdometryInsideTheBand)
+{
+	EXPECT_GE(window_nees_fraction_inside(20, true), 0.9);
 }

@@ -58,7 +58,8 @@ InertialInput inertial_input(const io::ObservationRawlog& log)
 
 bool InertialPriorOptions::is_valid(std::string* why) const
 {
-	for (double s : {velocity_sigma, velocity_sigma_unknown, accel_bias_sigma, gyro_bias_sigma, odometry_pose_sigma})
+	for (double s : {velocity_sigma, velocity_sigma_unknown, accel_bias_sigma, gyro_bias_sigma, odometry_pose_sigma,
+					 odometry_tilt_sigma})
 		if (!(std::isfinite(s) && s > 0))
 		{
 			if (why) *why = "initial-state sigmas must be positive";
@@ -85,7 +86,13 @@ InertialInitialState initial_inertial_state(const InertialInput& in, const Inert
 		s.t = in.odometry.front().t;
 		s.x.R = in.odometry.front().pose.getRotationMatrix().asEigen();
 		s.x.p = position(in.odometry.front().pose);
-		pose_cov = Matrix6d::Identity() * o.odometry_pose_sigma * o.odometry_pose_sigma;
+		// In the tangent [ρ (body), ω (body)]: position and yaw tight, tilt loose, the rotation's world-axis
+		// covariance diag(σ_tilt², σ_tilt², σ²) moved to the body axes (ω_world = R ω).
+		const double sp = o.odometry_pose_sigma, st = o.odometry_tilt_sigma;
+		pose_cov.setZero();
+		pose_cov.topLeftCorner<3, 3>() = Eigen::Matrix3d::Identity() * sp * sp;
+		pose_cov.bottomRightCorner<3, 3>() =
+			s.x.R.transpose() * Eigen::Vector3d(st * st, st * st, sp * sp).asDiagonal() * s.x.R;
 	}
 	if (s.t < in.imu.front().t) throw std::invalid_argument("inertial input: the first pose precedes the first IMU reading");
 	double sv = o.velocity_sigma_unknown;

@@ -162,6 +162,7 @@ class InertialGraph
 		s.lag = lag;
 		s.first_estimate_jacobians = o.first_estimate_jacobians;
 		s.solver = o.solver;
+		s.marginalization_threshold = o.marginalization_threshold;
 		return s;
 	}
 	NavState nav(const Kf& k) const;

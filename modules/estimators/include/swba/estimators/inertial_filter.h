@@ -35,9 +35,9 @@ struct InertialInput
 /** The IMU readings of an observation rawlog as ImuSample (same fields). */
 InertialInput inertial_input(const io::ObservationRawlog& log);
 
-/** Priors on the first state: its pose from the first pose prior (else the first odometry pose, the
- * odometry's frame then being the world, gravity along its −z), its velocity from the first odometry
- * increment (else zero) and zero biases. */
+/** Priors on the first state: its pose from the first pose prior (else the first odometry pose: the
+ * odometry's frame is then the world up to a tilt, see odometry_tilt_sigma), its velocity from the first
+ * odometry increment (else zero) and zero biases. */
 struct InertialPriorOptions
 {
 	/** σ of the initial velocity per axis, m/s, when it comes from odometry (Default = 0.2). */
@@ -48,8 +48,12 @@ struct InertialPriorOptions
 	double accel_bias_sigma = 0.1;
 	/** σ of the initial gyroscope bias per axis, rad/s (Default = 0.01). */
 	double gyro_bias_sigma = 0.01;
-	/** σ per axis of the initial pose when it comes from the odometry (m and rad, Default = 1e-3). */
+	/** Without pose priors the frame is free along x, y, z and yaw (the gauge of IMU + relative poses):
+	 * the initial pose from the odometry holds those four with this σ (m and rad, Default = 1e-3)... */
 	double odometry_pose_sigma = 1e-3;
+	/** ...and its roll and pitch (rotations about the world's x and y axes) only with this σ, rad: gravity
+	 * observes them, so an odometry frame that is not level is corrected (Default = 0.1). */
+	double odometry_tilt_sigma = 0.1;
 
 	bool is_valid(std::string* why = nullptr) const;
 };

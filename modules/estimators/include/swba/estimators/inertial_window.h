@@ -9,9 +9,9 @@
  * x₀) prior and first-estimate Jacobians unchanged). After each update, an IMU factor whose b_i moved from
  * its pre-integration's linearisation bias by more than the thresholds is re-integrated and replaced.
  *
- * Gauge: with pose priors the frame is fixed. Without them the first keyframe gets a pose prior from the
- * odometry (InertialPriorOptions::odometry_pose_sigma on all six directions, of which only x, y, z and yaw
- * are unobservable: roll and pitch are observed through gravity). */
+ * Gauge: with pose priors the frame is fixed. Without them (IMU + relative poses) x, y, z and yaw are
+ * unobservable: the first keyframe gets a prior from the odometry that holds those four tightly and leaves
+ * roll and pitch to gravity (InertialPriorOptions::odometry_pose_sigma, odometry_tilt_sigma). */
 #pragma once
 
 #include <swba/estimators/inertial_filter.h>
@@ -33,6 +33,11 @@ struct InertialWindowOptions
 	double reintegrate_accel = 0.02;
 	/** Re-integrate an IMU factor when |b_g − b̄_g| exceeds this (any axis), rad/s. (Default = 0.002) */
 	double reintegrate_gyro = 0.002;
+	/** Relative pivot threshold of the marginal prior (FixedLagSmootherOptions). The smoother's 1e-12 is
+	 * relative to the largest diagonal of the system, and the bias random-walk rows reach 1/(σ_b² Δt)
+	 * ≈ 1e15 for a tactical gyroscope: 1e-12 of that cuts every direction held by less than 1e3 (a pose
+	 * prior of σ = 0.5 m holds 4). (Default = 1e-20) */
+	double marginalization_threshold = 1e-20;
 	/** Recover the newest pose's marginal covariance after each update. (Default = true) */
 	bool covariances = true;
 	/** LM options of each update (Default: 10 iterations at most, initial trust region radius 1e12: see
