@@ -44,6 +44,11 @@ struct RunCommandLine
 									"MRPT ground-truth robot path (x y z yaw pitch roll per row, row i = pose at SF_i) "
 									"(Default: <rawlog name>_ground_truth_robot_path.txt next to the rawlog, if present)",
 									false, "", "FILE"};
+	TCLAP::ValueArg<std::string> association_truth{
+		"", "association-truth",
+		"rawlog with the same readings and their landmark IDs: the truth the association of a rawlog without IDs "
+		"is measured against (Default: the simulator's landmark file next to the rawlog, if present)",
+		false, "", "RAWLOG"};
 	TCLAP::ValueArg<std::string> windows{"", "windows", "window sizes W, comma-separated, each >= 2 (Default: 5,10,20,30)",
 										 false, "", "LIST"};
 	TCLAP::ValueArg<int> relinearized{
@@ -96,7 +101,7 @@ struct RunCommandLine
 		false, "", "L"};
 	TCLAP::ValueArg<double> robust_probability{
 		"", "robust-probability",
-		"robust-loss scale = sqrt of the chi-square (3 DoF) quantile at this probability, in (0, 1) (Default: 0.95)",
+		"robust-loss scale = sqrt of the chi-square (3 DoF) quantile at this probability, in (0, 1) (Default: 0.99)",
 		false, 0, "P"};
 	TCLAP::ValueArg<int> max_steps{"", "max-steps", "process at most N steps (0 = all) (Default: 0)", false, 0, "N"};
 	TCLAP::ValueArg<int> threads{"", "threads", "solver threads (Default: 1)", false, 1, "N"};
@@ -108,7 +113,7 @@ struct RunCommandLine
 	{
 		// --help lists them in this order (cli.cpp): input, main choices, tuning, output, verbosity.
 		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{
-				 &rawlog, &gt, &config,                                                      //
+				 &rawlog, &gt, &association_truth, &config,                                                      //
 				 &windows, &relinearized, &no_ekf, &no_batch, &causal, &ekf_method, &policy, &fej, &landmarks, &gauge, &association,  //
 				 &std_range, &std_yaw, &std_pitch, &gate, &gate_probability, &robust_loss, &robust_probability,
 				 &max_steps, &threads,  //
@@ -122,6 +127,7 @@ struct RunCommandLine
 	{
 		if (rawlog.isSet()) o.rawlog = rawlog.getValue();
 		if (gt.isSet()) o.ground_truth = gt.getValue();
+		if (association_truth.isSet()) o.association_truth = association_truth.getValue();
 		if (windows.isSet()) o.windows = apps::parse_window_list(windows.getValue(), "--windows");
 		if (relinearized.isSet())
 		{

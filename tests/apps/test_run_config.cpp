@@ -34,10 +34,10 @@ std::string load_error(const std::string& text)
 /** An INI setting every key to a value different from its default. */
 std::string non_default_ini()
 {
-	return "[run]\nrawlog = a.rawlog\nground_truth = a_gt.txt\nout_dir = elsewhere\nmax_steps = 7\n"
+	return "[run]\nrawlog = a.rawlog\nground_truth = a_gt.txt\nassociation_truth = a_ids.rawlog\nout_dir = elsewhere\nmax_steps = 7\n"
 		   "batch = false\nbatch_max_iterations = 3\ncausal = true\nplots = false\nprogress = false\nverbose = true\n"
 		   "[window]\nsizes = 3,4\npolicy = both\nfej = off\nlandmarks = xyz\nmodel = 2d\ngauge = prior\ngauge_prior_weight = 5\n"
-		   "relinearized_poses = 4\nmarginalization_threshold = 0.5\ngate = false\ngate_probability = 0.5\nrobust_loss = cauchy\n"
+		   "relinearized_poses = 4\nmarginalization_threshold = 0.5\ngate = true\ngate_probability = 0.5\nrobust_loss = huber\n"
 		   "robust_probability = 0.75\ncovariances = false\n"
 		   "association = nn\nreassociate = false\n"
 		   "[solver]\nmax_iterations = 4\nfunction_tolerance = 0.5\ngradient_tolerance = 0.25\n"
@@ -72,9 +72,9 @@ TEST(RunConfig, NonDefaultIniSetsEveryKey)
 	EXPECT_DOUBLE_EQ(o.window.sensor.std_range, 0.5);
 	EXPECT_DOUBLE_EQ(o.window.odometry.min_sigma_rotation, 0.25);
 	EXPECT_EQ(o.window.model, swba::estimators::PoseModel::Planar);
-	EXPECT_FALSE(o.window.gate_readings);
+	EXPECT_TRUE(o.window.gate_readings);
 	EXPECT_DOUBLE_EQ(o.window.gate_probability, 0.5);
-	EXPECT_EQ(o.window.robust_loss, swba::RobustLoss::Cauchy);
+	EXPECT_EQ(o.window.robust_loss, swba::RobustLoss::Huber);
 	EXPECT_DOUBLE_EQ(o.window.robust_probability, 0.75);
 	EXPECT_FALSE(o.window.covariances);
 	EXPECT_EQ(o.window.association, swba::estimators::DataAssociation::NearestNeighbour);

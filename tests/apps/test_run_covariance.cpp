@@ -73,7 +73,7 @@ std::map<std::string, std::vector<std::vector<double>>> check_files(const swba::
 		for (const auto& l : lms) EXPECT_EQ(l.size(), 10u) << stem;
 		out[r.file] = cov;
 	}
-	EXPECT_EQ(rows_with_files, 5);  // two EKF methods, window online and lagged, batch
+	EXPECT_EQ(rows_with_files, 6);  // two EKF methods, window online and lagged, batch from two starts
 	return out;
 }
 }  // namespace

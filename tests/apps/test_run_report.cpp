@@ -204,7 +204,8 @@ TEST(RunSummaryJson, ShapeOfTheIssueExample)
 	const std::vector<std::string> stats = {"rmse", "mean", "median", "max", "min", "sse", "std"};
 	const std::vector<std::string> row_keys = {"name", "label", "window", "trajectory", "policy", "fej", "method", "file",
 											   "poses", "ape_trans", "ape_full", "ape_rot", "rpe_trans", "association", "seconds", "ms_per_step",
-											   "covariance_seconds", "steps_processed", "readings", "failed", "failed_step", "failure", "interrupted"};
+											   "covariance_seconds", "steps_processed", "readings", "start", "final_cost", "diverged", "divergence",
+											   "reading_misfit", "failed", "failed_step", "failure", "interrupted"};
 	for (std::size_t i = 0; i < rep.rows.size(); i++)
 	{
 		const Json& e = j["estimators"][i];
@@ -342,7 +343,7 @@ TEST(RunApeCsv, HeaderAndRows)
 	EXPECT_EQ(header.rfind("label,name,window,trajectory,policy,fej,method,failed,failed_step,poses,trans_rmse,", 0), 0u)
 		<< header;
 	std::size_t columns = std::count(header.begin(), header.end(), ',') + 1;
-	EXPECT_EQ(columns, 10u + 4 * 7u + 8u + 2u);  // 4 statistics blocks, the association, the times
+	EXPECT_EQ(columns, 10u + 4 * 7u + 8u + 2u + 2u);  // 4 statistics blocks, the association, the times, divergence
 	std::string row;
 	std::size_t n = 0;
 	while (std::getline(in, row))

@@ -12,6 +12,16 @@ namespace
 using namespace swba;
 using namespace swba::estimators;
 
+/** The χ² gate with least squares, the configuration these tests are about (the defaults are the Cauchy
+ * loss without the gate). */
+SlidingWindowOptions gated()
+{
+	SlidingWindowOptions o;
+	o.gate_readings = true;
+	o.robust_loss = RobustLoss::None;
+	return o;
+}
+
 constexpr double kSigmaRange = 0.1;
 
 /** A robot standing still (odometry: identity) seeing landmark 1 at 5 m once per step; `planar`: 2D
@@ -34,7 +44,7 @@ io::RawlogStep still_step(std::size_t k, double range, bool planar = false)
  * `planar`: a planar robot (PoseModel::Planar), else 6D. */
 int gated_after(double k_sigma, std::size_t n, ReadingCounts* counts = nullptr, bool planar = false)
 {
-	SlidingWindowOptions o;
+	SlidingWindowOptions o = gated();
 	o.window_size = 5;
 	o.model = planar ? PoseModel::Planar : PoseModel::Spatial;
 	o.gate_probability = 0.99;  // χ²₃ = 11.34: a 3.37σ gate (6D); χ²₂ = 9.21: 3.03σ (planar)
@@ -81,7 +91,7 @@ TEST(Outliers, PlanarRobustScaleHasTwoDegreesOfFreedom)
 		io::Rawlog r;
 		for (std::size_t k = 0; k < 40; k++) r.steps.push_back(still_step(k, 5.0, planar));
 		r.steps.push_back(still_step(40, 5.0 + 3.3 * kSigmaRange, planar));
-		SlidingWindowOptions o;
+		SlidingWindowOptions o = gated();
 		o.model = planar ? PoseModel::Planar : PoseModel::Spatial;
 		o.gate_readings = false;
 		o.robust_loss = RobustLoss::Huber;
@@ -96,7 +106,7 @@ TEST(Outliers, FirstReadingWaitsForAConsistentSecond)
 {
 	// A landmark whose first reading is 3 m off: the second (correct) reading does not confirm it, the
 	// third does confirm the second; the first is re-tested against the landmark and stays out.
-	SlidingWindowOptions o;
+	SlidingWindowOptions o = gated();
 	o.window_size = 5;
 	SlidingWindowEstimator est(o);
 	est.process(still_step(0, 8.0));
@@ -143,7 +153,7 @@ TEST(Outliers, GateFollowsTheReadingsWhenTheOdometryIsFiveSigmaOff)
 	// still held. Gated at the dead-reckoned pose, all six were held and the pose followed the odometry.
 	for (const bool outlier : {false, true})
 	{
-		SlidingWindowOptions o;
+		SlidingWindowOptions o = gated();
 		o.window_size = 5;
 		SlidingWindowEstimator est(o);
 		for (std::size_t k = 0; k < 10; k++) est.process(step_at(k, 0.0, 0.04, false));
@@ -221,7 +231,7 @@ TEST(Outliers, GatedWindowWithFivePercentOutliersMatchesTheRunWithoutThem)
 	io::Rawlog noisy = clean;
 	const std::size_t moved = inject_outliers(noisy, 0.05);
 	ASSERT_GT(moved, 60u);
-	SlidingWindowOptions o;
+	SlidingWindowOptions o = gated();
 	o.window_size = 10;
 	const WindowRun ref = run_window(without_outliers(clean, noisy), o), n = run_window(noisy, o);
 	EXPECT_NEAR(n.online_ape, ref.online_ape, 0.01 * ref.online_ape);
@@ -239,7 +249,7 @@ TEST(Outliers, CauchyLossAloneKeepsTheWindowCloseAndCountsTheDownWeighted)
 	const io::Rawlog clean = demo_steps(200);
 	io::Rawlog noisy = clean;
 	inject_outliers(noisy, 0.05);
-	SlidingWindowOptions o;
+	SlidingWindowOptions o = gated();
 	o.window_size = 10;
 	const WindowRun ref = run_window(without_outliers(clean, noisy), o);
 	o.gate_readings = false;
@@ -257,7 +267,7 @@ TEST(Outliers, GatedBatchWithFivePercentOutliersStaysCloseToTheBatchWithoutThem)
 	io::Rawlog noisy = clean;
 	const std::size_t moved = inject_outliers(noisy, 0.05);
 	const auto gt = test::ground_truth(test::dataset("kf-slam_6D_demo_ground_truth_robot_path.txt"));
-	SlidingWindowOptions o;
+	SlidingWindowOptions o = gated();
 	const BatchResult ref = run_batch(without_outliers(clean, noisy), o), n = run_batch(noisy, o);
 	const double ref_ape = test::ape_trans_rmse(gt, ref.trajectory);
 	EXPECT_NEAR(test::ape_trans_rmse(gt, n.trajectory), ref_ape, 0.02 * ref_ape) << n.rounds << " " << n.counts.gated;

@@ -67,6 +67,10 @@ IniKeys<RunOptions> run_section_keys()
 		{"run", "ground_truth", "path",
 		 "MRPT ground-truth robot path; empty = <rawlog name>_ground_truth_robot_path.txt next to the rawlog if present",
 		 [](const S& v, O& o) { o.ground_truth = v; }, [](const O& o) { return o.ground_truth; }},
+		{"run", "association_truth", "path",
+		 "rawlog with the same readings and their landmark IDs, the truth of the association of a rawlog "
+		 "without IDs; empty = the simulator's landmark file next to the rawlog, if present",
+		 [](const S& v, O& o) { o.association_truth = v; }, [](const O& o) { return o.association_truth; }},
 		{"run", "out_dir", "path", "output directory (created)",
 		 [](const S& v, O& o) {
 			 if (v.empty()) throw std::invalid_argument("must not be empty");

@@ -126,9 +126,39 @@ estimators::DataAssociation resolve_association(estimators::DataAssociation a, c
 
 /** The truth of the readings' landmarks: their own IDs when every reading has one, else the
  * simulator's landmark ground truth next to the rawlog with the robot path (empty: unknown). */
-estimators::ReadingIds association_truth(const io::Rawlog& rawlog, const std::string& rawlog_path,
+/** The landmark IDs of `path`, a rawlog with the same readings as `rawlog` in the same order (throws
+ * std::runtime_error naming the file and the first step that differs). */
+estimators::ReadingIds ids_from_rawlog(const std::string& path, const io::Rawlog& rawlog)
+{
+	io::RawlogReaderOptions ro;
+	ro.max_steps = rawlog.steps.size();
+	const io::Rawlog truth = io::read_rawlog(path, ro);
+	if (truth.steps.size() != rawlog.steps.size())
+		throw std::runtime_error("association truth '" + path + "': " + std::to_string(truth.steps.size()) +
+								 " steps, the rawlog has " + std::to_string(rawlog.steps.size()));
+	for (std::size_t k = 0; k < truth.steps.size(); k++)
+	{
+		const auto& a = truth.steps[k].readings;
+		const auto& b = rawlog.steps[k].readings;
+		bool same = a.size() == b.size();
+		for (std::size_t i = 0; same && i < a.size(); i++)
+			same = a[i].range == b[i].range && a[i].yaw == b[i].yaw && a[i].landmark_id >= 0;
+		if (!same)
+			throw std::runtime_error("association truth '" + path + "': step " + std::to_string(k) +
+									 " does not hold the rawlog's readings with their landmark IDs");
+	}
+	return estimators::reading_ids(truth);
+}
+
+estimators::ReadingIds association_truth(const io::Rawlog& rawlog, const RunOptions& options,
 										 const std::vector<mrpt::poses::CPose3D>& gt, std::string& source)
 {
+	if (!options.association_truth.empty())
+	{
+		source = options.association_truth + " (its landmark IDs)";
+		return ids_from_rawlog(options.association_truth, rawlog);
+	}
+	const std::string& rawlog_path = options.rawlog;
 	bool all_ids = true;
 	for (const auto& st : rawlog.steps)
 		for (const auto& r : st.readings) all_ids = all_ids && r.landmark_id >= 0;
@@ -153,7 +183,7 @@ void add_association_quality(RunReport& report, const io::Rawlog& rawlog, const 
 							 const std::vector<mrpt::poses::CPose3D>& gt, std::ostream& log)
 {
 	std::string source;
-	const estimators::ReadingIds truth = association_truth(rawlog, options.rawlog, gt, source);
+	const estimators::ReadingIds truth = association_truth(rawlog, options, gt, source);
 	if (truth.empty())
 	{
 		report.notes.push_back("data association (" + std::string(enum_name(options.window.association)) +

@@ -31,6 +31,10 @@ struct RunOptions
 	/** MRPT ground-truth robot path (`x y z yaw pitch roll` per row). "" = `<rawlog name>_ground_truth_robot_path.txt`
 	 * next to the rawlog if it exists, else no APE. */
 	std::string ground_truth;
+	/** A rawlog holding the same readings in the same order with their landmark IDs: the truth the
+	 * association of a rawlog without IDs is measured against (the share of readings given their true
+	 * landmark). "" = the simulator's landmark file next to the rawlog, if any. */
+	std::string association_truth;
 	/** Output directory (created). Default "swba_out". */
 	std::string out_dir = "swba_out";
 	/** Window sizes W (each ≥ 2). Default {5, 10, 20, 30}. */
