@@ -353,6 +353,12 @@ struct BenchCommandLine
 		false, 0, "N"};
 	TCLAP::SwitchArg no_small{"", "no-small", "skip the small rawlog"};
 	TCLAP::SwitchArg no_large{"", "no-large", "skip the large rawlog"};
+	TCLAP::MultiArg<std::string> real{
+		"", "real",
+		"a real robot's rawlog, benchmarked like the small one (repeatable). (Default: the five MRCLAM logs of "
+		"share/data/mrclam)",
+		false, "RAWLOG"};
+	TCLAP::SwitchArg no_real{"", "no-real", "skip the real rawlogs"};
 	TCLAP::SwitchArg no_ekf{"", "no-ekf", "skip the EKF"};
 	TCLAP::ValueArg<std::string> markdown{"", "markdown", "also write the tables to FILE", false, "", "FILE"};
 	TCLAP::ValueArg<std::string> config{
@@ -376,7 +382,7 @@ struct BenchCommandLine
 	{
 		// TCLAP lists options in reverse order of addition.
 		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{
-				 &growth_runs, &covariance_off, &keep_prior_only, &config, &markdown, &no_ekf, &no_large, &no_small, &slam_large_steps,
+				 &no_real, &real, &growth_runs, &covariance_off, &keep_prior_only, &config, &markdown, &no_ekf, &no_large, &no_small, &slam_large_steps,
 				 &ekf_large_steps, &large_steps, &ekf_method, &policy, &windows, &rawlog_dir, &large, &small})
 			cmd.add(*a);
 	}
@@ -581,6 +587,12 @@ int main(int argc, char** argv)
 			all += bench_rawlog(base, large, cl.large_step_limits(), mrpt::system::extractFileName(large), cov,
 								cl.growth_runs.getValue());
 		}
+		std::vector<std::string> real = cl.real.getValue();
+		if (real.empty())
+			for (int r = 1; r <= 5; r++)
+				real.push_back(std::string(SWBA_SOURCE_DIR) + "/share/data/mrclam/mrclam6_r" + std::to_string(r) + ".rawlog");
+		if (!cl.no_real.getValue())
+			for (const auto& f : real) all += bench_rawlog(base, f, {}, mrpt::system::extractFileName(f), cov);
 		if (!cl.markdown.getValue().empty()) write_markdown(cl.markdown.getValue(), all);
 		return 0;
 	}

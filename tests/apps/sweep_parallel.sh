@@ -36,7 +36,7 @@ for f in "$out"/seq/*.tum; do
 	cmp "$f" "$m/$(basename "$f")" || fail "$(basename "$f") differs"
 	n=$((n + 1))
 done
-[ "$n" -eq 11 ] || fail "expected 11 TUM files (gt, ekf, 2 W x FEJ on/off x online/lagged, batch), got $n"
+[ "$n" -eq 12 ] || fail "expected 12 TUM files (gt, ekf, 2 W x FEJ on/off x online/lagged, batch from two starts), got $n"
 # Covariance files (when swba run writes them): copied byte for byte too.
 for f in "$out"/seq/*.cov; do
 	[ -e "$f" ] || continue

@@ -93,7 +93,7 @@ TEST(ShellQuote, SafeWordsStayOthersAreSingleQuoted)
 	EXPECT_EQ(shell_quote(""), "''");
 }
 
-TEST(PlanSweep, OneJobPerRawlogAndWindowTheFirstRunsEkfAndBatch)
+TEST(PlanSweep, OneJobPerRawlogAndWindowTheWidestRunsEkfAndBatch)
 {
 	const fs::path d = fresh_dir("plan");
 	SweepOptions o;
@@ -107,8 +107,9 @@ TEST(PlanSweep, OneJobPerRawlogAndWindowTheFirstRunsEkfAndBatch)
 	EXPECT_EQ(plan.jobs[0].command, "/opt/swba run " + std::string(SWBA_MRPT_DATASETS) +
 										"/kf-slam_6D_demo.rawlog --gt " + std::string(SWBA_MRPT_DATASETS) +
 										"/kf-slam_6D_demo_ground_truth_robot_path.txt --config " + s +
-										"/config.ini --windows 3 --out " + s + "/jobs/kf-slam_6D_demo/w3");
-	EXPECT_NE(plan.jobs[1].command.find(" --config " + s + "/config_windows.ini --windows 5 "), std::string::npos);
+										"/config_windows.ini --windows 3 --out " + s + "/jobs/kf-slam_6D_demo/w3");
+	// The widest window's job runs the EKF, batch and causal rows (the batch starts from its lagged trajectory).
+	EXPECT_NE(plan.jobs[1].command.find(" --config " + s + "/config.ini --windows 5 "), std::string::npos);
 	const std::string sbatch = format_sbatch_script(plan);
 	EXPECT_NE(sbatch.find("#SBATCH --array=1-2\n"), std::string::npos);
 	EXPECT_NE(sbatch.find("sed -n \"${task}p\" \"$jobs\""), std::string::npos);
@@ -123,7 +124,7 @@ TEST(PlanSweep, OneJobPerRawlogAndWindowTheFirstRunsEkfAndBatch)
 	EXPECT_EQ(back.jobs[1].command, plan.jobs[1].command);
 	EXPECT_EQ(back.jobs[1].window, 5);
 	EXPECT_EQ(back.groups[0].jobs, (std::vector<std::size_t>{1, 2}));
-	// The second job's options: EKF, batch and causal off; both: no plots, no progress.
+	// The other job's options: EKF, batch and causal off; both: no plots, no progress.
 	RunOptions first, other;
 	load_run_config(s + "/config.ini", first);
 	load_run_config(s + "/config_windows.ini", other);

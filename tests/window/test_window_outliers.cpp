@@ -254,6 +254,9 @@ TEST(Outliers, CauchyLossAloneKeepsTheWindowCloseAndCountsTheDownWeighted)
 	const WindowRun ref = run_window(without_outliers(clean, noisy), o);
 	o.gate_readings = false;
 	o.robust_loss = RobustLoss::Cauchy;
+	// The scale these bounds were measured at; at the default 0.99 (a scale of 3.37 instead of 2.80) the
+	// outliers keep more weight: online 1.12x, lagged 1.06x the run without them.
+	o.robust_probability = 0.95;
 	const WindowRun n = run_window(noisy, o);
 	EXPECT_LT(n.online_ape, 1.1 * ref.online_ape) << ref.online_ape;
 	EXPECT_LT(n.lagged_ape, 1.1 * ref.lagged_ape) << ref.lagged_ape;

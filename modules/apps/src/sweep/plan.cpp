@@ -194,6 +194,9 @@ SweepPlan plan_sweep(const SweepOptions& o)
 	{
 		SweepGroup& g = plan.groups[gi];
 		const std::vector<int> windows = o.kind == SweepKind::Nees ? std::vector<int>{0} : o.run.windows;
+		// The job of the widest window also runs the EKF, the batch and the causal row: the batch starts
+		// from the widest window's lagged trajectory, as in one swba run of every window.
+		const std::size_t full = static_cast<std::size_t>(std::max_element(windows.begin(), windows.end()) - windows.begin());
 		for (std::size_t wi = 0; wi < windows.size(); wi++)
 		{
 			SweepJob job;
@@ -201,7 +204,7 @@ SweepPlan plan_sweep(const SweepOptions& o)
 			job.group = gi;
 			job.window = windows[wi];
 			job.dir = "jobs/" + g.name + "/" + (job.window ? "w" + std::to_string(job.window) : "all");
-			job.command = run_command(plan, o.swba, g, job, wi == 0);
+			job.command = run_command(plan, o.swba, g, job, wi == full);
 			g.jobs.push_back(job.id);
 			plan.jobs.push_back(job);
 		}
@@ -350,13 +353,32 @@ SweepPlan read_sweep_manifest(const std::string& dir)
 
 namespace
 {
+/** The job of group `g` that runs the EKF, batch and causal rows: the first of its widest window. */
+std::size_t full_job_of(const SweepPlan& plan, std::size_t g)
+{
+	std::size_t best = 0;
+	int widest = -1;
+	for (std::size_t id : plan.groups[g].jobs)
+	{
+		const SweepJob& j = plan.jobs[id - 1];
+		if (j.window > widest)
+		{
+			widest = j.window;
+			best = id;
+		}
+	}
+	return best;
+}
+
 /** The rows a job's summary.json has when the job ran to its end: a job stopped half-way (killed) leaves
  * the summary of the estimators it completed, which must not pass for a complete one. */
 std::size_t expected_rows(const RunOptions& o, const SweepJob& job)
 {
 	const std::size_t windows = job.window ? 1 : o.windows.size();
-	return (o.run_ekf ? o.ekf_methods.size() : 0) + o.policies.size() * o.fej.size() * windows * 2 +
-		   (o.run_batch ? 1 : 0) + (o.run_causal ? 1 : 0);
+	// The batch runs from dead reckoning and, after a window, from its lagged trajectory (two rows).
+	const std::size_t batch = o.run_batch ? (windows > 0 ? 2 : 1) : 0;
+	return (o.run_ekf ? o.ekf_methods.size() : 0) + o.policies.size() * o.fej.size() * windows * 2 + batch +
+		   (o.run_causal ? 1 : 0);
 }
 }  // namespace
 
@@ -369,7 +391,7 @@ void check_jobs_complete(const SweepPlan& plan, std::ostream& log)
 	std::size_t first = 0;
 	for (const auto& job : plan.jobs)
 	{
-		const bool first_of_group = plan.groups[job.group].jobs.front() == job.id;
+		const bool first_of_group = full_job_of(plan, job.group) == job.id;
 		const std::size_t expected = expected_rows(first_of_group ? first_config : other_config, job);
 		const std::string summary = job_directory(plan, job) + "/summary.json";
 		std::string why;
