@@ -1,5 +1,5 @@
 /** \file report_helpers.h
- * Private helpers shared by the applications' option checks and reports (monoba, directba). */
+ * Private helpers shared by the applications' option checks and reports (monoba, directba, run, nees). */
 #pragma once
 
 #include <mrpt/poses/CPose3D.h>
@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace swba::apps::detail
@@ -25,4 +26,14 @@ inline double rotation_angle_deg(const mrpt::poses::CPose3D& a, const mrpt::pose
 	const double c = std::clamp((E.trace() - 1.0) * 0.5, -1.0, 1.0);
 	return std::acos(c) * 180.0 / 3.14159265358979323846;
 }
+/** `v` with `decimals` digits after the point (the reports' fixed-point figures). */
+inline std::string fixed(double v, int decimals)
+{
+	char buf[64];
+	std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
+	return buf;
+}
+/** `s` padded with spaces to width `w`, on the right / on the left (table columns). */
+inline std::string pad_right(const std::string& s, std::size_t w) { return s.size() >= w ? s : s + std::string(w - s.size(), ' '); }
+inline std::string pad_left(const std::string& s, std::size_t w) { return s.size() >= w ? s : std::string(w - s.size(), ' ') + s; }
 }  // namespace swba::apps::detail

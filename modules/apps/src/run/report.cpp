@@ -1,4 +1,5 @@
 // swba run: the comparison table, ape.txt / ape.csv / summary.json, TUM files and plots.
+#include "../report_helpers.h"
 #include "covariance_files.h"
 #include "output_dir.h"
 #include "summary_fields.h"
@@ -28,15 +29,9 @@ namespace swba::apps
 {
 namespace
 {
-std::string fixed(double v, int decimals)
-{
-	char buf[64];
-	std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
-	return buf;
-}
-
-std::string pad_right(const std::string& s, std::size_t w) { return s.size() >= w ? s : s + std::string(w - s.size(), ' '); }
-std::string pad_left(const std::string& s, std::size_t w) { return s.size() >= w ? s : std::string(w - s.size(), ' ') + s; }
+using detail::fixed;
+using detail::pad_left;
+using detail::pad_right;
 
 /** The seven statistics evo computes, in the report's column order. */
 const std::vector<std::pair<const char*, double eval::Statistics::*>>& stat_fields()

@@ -1,4 +1,5 @@
 // swba nees / swba merge of a NEES sweep: the average NEES table, nees.csv and plots (see nees.h).
+#include "../report_helpers.h"
 #include "summary_json.h"
 
 #include <swba/apps/nees.h>
@@ -22,15 +23,12 @@ namespace swba::apps
 {
 namespace fs = std::filesystem;
 
+using detail::fixed;
+using detail::pad_left;
+using detail::pad_right;
+
 namespace
 {
-std::string fixed(double v, int decimals)
-{
-	char buf[64];
-	std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
-	return buf;
-}
-
 std::string exact(double v)
 {
 	char buf[40];
@@ -56,9 +54,6 @@ std::string band_text(const eval::AverageNeesSeries& s)
 		if (b.low != s.band.front().low || b.high != s.band.front().high) return "varies";
 	return "[" + fixed(s.band.front().low, 2) + ", " + fixed(s.band.front().high, 2) + "]";
 }
-
-std::string pad_right(const std::string& s, std::size_t w) { return s.size() >= w ? s : s + std::string(w - s.size(), ' '); }
-std::string pad_left(const std::string& s, std::size_t w) { return s.size() >= w ? s : std::string(w - s.size(), ' ') + s; }
 
 std::string seeds_text(const std::vector<long>& seeds)
 {
