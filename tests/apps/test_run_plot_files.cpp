@@ -22,14 +22,6 @@ using swba::apps::RunOptions;
 using swba::apps::RunReport;
 using swba::apps::RunRow;
 
-std::string slurp(const fs::path& p)
-{
-	std::ifstream f(p);
-	std::stringstream ss;
-	ss << f.rdbuf();
-	return ss.str();
-}
-
 /** The y values of the first block of a plot's .dat file (the error curve of an error-over-time plot). */
 std::vector<double> first_block_y(const std::string& dat)
 {

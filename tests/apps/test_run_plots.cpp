@@ -1,5 +1,6 @@
 // swba run plots: failed rows left out with a note, diverged rows drawn clipped (they never set the
 // axes), error over time per estimator and colormap top views.
+#include "test_temp_dir.h"
 #include <swba/apps/run.h>
 #include <swba/eval/ground_truth.h>
 #include <swba/eval/plot.h>
@@ -18,14 +19,6 @@ namespace fs = std::filesystem;
 using mrpt::poses::CPose3D;
 using swba::apps::RunReport;
 using swba::apps::RunRow;
-
-std::string slurp(const fs::path& p)
-{
-	std::ifstream f(p);
-	std::stringstream ss;
-	ss << f.rdbuf();
-	return ss.str();
-}
 
 /** A square loop of n + 1 ground-truth rows, 1 m per step. */
 std::vector<CPose3D> loop_gt(std::size_t n)

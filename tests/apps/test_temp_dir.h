@@ -1,9 +1,11 @@
-// A fresh temporary directory named after the running test (tests/apps).
+// A fresh temporary directory named after the running test, and a file's content (tests/apps).
 #pragma once
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 inline std::filesystem::path temp_dir()
@@ -14,4 +16,13 @@ inline std::filesystem::path temp_dir()
 	std::filesystem::remove_all(d);
 	std::filesystem::create_directories(d);
 	return d;
+}
+
+/** The whole content of file `p` ("" if it cannot be read). */
+inline std::string slurp(const std::filesystem::path& p)
+{
+	std::ifstream f(p);
+	std::stringstream ss;
+	ss << f.rdbuf();
+	return ss.str();
 }
