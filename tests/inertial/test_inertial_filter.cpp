@@ -5,6 +5,8 @@
 #include <swba/estimators/inertial_filter.h>
 #include <swba/problems/inertial_simulation.h>
 
+#include "inertial_test_utils.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -17,30 +19,10 @@ using namespace swba::problems;
 
 namespace
 {
-Eigen::Vector3d position(const mrpt::poses::CPose3D& p) { return {p.x(), p.y(), p.z()}; }
-
-InertialInput input_of(const InertialDataset& d)
-{
-	InertialInput in;
-	in.imu = d.imu;
-	for (const auto& z : d.pose_priors) in.pose_priors.push_back({z.t, "MAP", z.pose, z.covariance});
-	for (const auto& z : d.odometry) in.odometry.push_back({z.t, "ODO", z.pose, z.covariance});
-	return in;
-}
-
-const InertialTruth& truth_at(const InertialDataset& d, double t, double rate)
-{
-	return d.truth.at(static_cast<std::size_t>(std::lround(t * rate)));
-}
-
-/** Translation RMSE of the trajectory against the truth (report times are IMU times). */
-double rmse(const InertialTrajectory& tr, const InertialDataset& d, double rate)
-{
-	double s = 0;
-	for (size_t i = 0; i < tr.t.size(); i++)
-		s += (position(tr.poses[i]) - position(truth_at(d, tr.t[i], rate).pose)).squaredNorm();
-	return std::sqrt(s / tr.t.size());
-}
+using test::input_of;
+using test::position;
+using test::rmse;
+using test::truth_at;
 
 InertialFilterOptions filter_options(const InertialDataset& d, ImuGrade grade)
 {
