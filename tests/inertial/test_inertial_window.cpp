@@ -133,8 +133,13 @@ TEST(InertialWindow, ImuAndOdometryOnlyHoldTheFourDofGaugeAndRecoverTheTilt)
 					std::abs(first.yaw() - in.odometry[0].pose.yaw()));
 		EXPECT_LT(gauge_drift, 5e-3);
 		EXPECT_LT(std::abs(first.yaw() - in.odometry[0].pose.yaw()), 5e-3);
-		EXPECT_LT(window_tilt, 0.3 * M_PI / 180);  // gravity levels the later keyframes either way...
-		EXPECT_LT(filter_tilt, 0.3 * M_PI / 180);
+		// Gravity levels the later keyframes either way: the 2° the odometry's frame is rolled by is cut at
+		// least fourfold, and the window agrees with the filter of the same model. How far below that the
+		// last keyframe's tilt gets after 30 s of weak tilt observability depends on rounding: 0.19° with
+		// GCC's Release build, 0.35° with clang's sanitizer build, the window and the filter equal in both.
+		EXPECT_LT(window_tilt, 0.5 * M_PI / 180);
+		EXPECT_LT(filter_tilt, 0.5 * M_PI / 180);
+		EXPECT_NEAR(window_tilt, filter_tilt, 0.01 * M_PI / 180);
 		// ...and the first one (estimated from the 1 s it spends in the window) only when its prior lets it.
 		if (tilt_sigma > 0.01)
 			EXPECT_LT(first_tilt, 1.0 * M_PI / 180);
