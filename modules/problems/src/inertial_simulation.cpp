@@ -138,7 +138,13 @@ class Gaussian
 		std::seed_seq seq{seed, stream};
 		gen_.seed(seq);
 	}
-	Eigen::Vector3d vec(double sd) { return Eigen::Vector3d(n(), n(), n()) * sd; }
+	/** Three draws in x, y, z order (sequenced: the order in which a constructor's arguments are evaluated
+	 * is unspecified, and GCC and clang differ, which changed every simulated log between compilers). */
+	Eigen::Vector3d vec(double sd)
+	{
+		const double x = n(), y = n(), z = n();
+		return Eigen::Vector3d(x, y, z) * sd;
+	}
 
    private:
 	double n() { return dist_(gen_); }
