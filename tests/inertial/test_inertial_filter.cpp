@@ -92,28 +92,14 @@ double nees_fraction_inside(int runs, bool use_odometry, double* mean_out)
 		const InertialDataset d = simulate_inertial(s);
 		InertialFilterOptions fo = filter_options(d, s.grade);
 		fo.use_odometry = use_odometry;
-		const InertialTrajectory tr = run_inertial_filter(input_of(d), fo);
-		if (sum.empty()) sum.assign(tr.t.size(), 0.0);
-		for (size_t i = 0; i < tr.t.size(); i++)
-		{
-			// Position error in the body frame (the covariance's ρ block is in the body frame).
-			const Eigen::Vector3d e = position(truth_at(d, tr.t[i], s.imu_rate).pose - tr.poses[i]);
-			sum[i] += e.dot(tr.pose_covariances[i].topLeftCorner<3, 3>().ldlt().solve(e));
-		}
+		test::add_position_nees(sum, run_inertial_filter(input_of(d), fo), d, s.imu_rate);
 	}
-	const double lo = chi2_quantile(0.025, 3 * runs) / runs, hi = chi2_quantile(0.975, 3 * runs) / runs;
-	int inside = 0;
-	double mean = 0;
-	for (double x : sum)
-	{
-		inside += (x / runs >= lo && x / runs <= hi);
-		mean += x / runs / sum.size();
-	}
-	*mean_out = mean;
+	const test::NeesBand b = test::nees_band(sum, runs);
+	*mean_out = b.mean;
 	std::printf("[eskf] position NEES over %d runs (%s): mean %.2f, band [%.2f, %.2f], %.0f %% of %zu steps inside\n",
-				runs, use_odometry ? "priors + odometry" : "priors only", mean, lo, hi, 100.0 * inside / sum.size(),
+				runs, use_odometry ? "priors + odometry" : "priors only", b.mean, b.lo, b.hi, 100.0 * b.inside,
 				sum.size());
-	return double(inside) / sum.size();
+	return b.inside;
 }
 }  // namespace
 

@@ -163,26 +163,13 @@ double window_nees_fraction_inside(int runs, bool use_odometry)
 		const InertialDataset d = simulate_inertial(s);
 		InertialWindowOptions o = window_options(d, s.grade, 10);
 		o.measurements.use_odometry = use_odometry;
-		const InertialTrajectory tr = run_inertial_window(input_of(d), o).online;
-		if (sum.empty()) sum.assign(tr.t.size(), 0.0);
-		for (size_t i = 0; i < tr.t.size(); i++)
-		{
-			const Eigen::Vector3d e = position(d.truth.at(std::lround(tr.t[i] * s.imu_rate)).pose - tr.poses[i]);
-			sum[i] += e.dot(tr.pose_covariances[i].topLeftCorner<3, 3>().ldlt().solve(e));
-		}
+		test::add_position_nees(sum, run_inertial_window(input_of(d), o).online, d, s.imu_rate);
 	}
-	const double lo = chi2_quantile(0.025, 3 * runs) / runs, hi = chi2_quantile(0.975, 3 * runs) / runs;
-	int inside = 0;
-	double mean = 0;
-	for (double x : sum)
-	{
-		inside += (x / runs >= lo && x / runs <= hi);
-		mean += x / runs / sum.size();
-	}
+	const test::NeesBand b = test::nees_band(sum, runs);
 	std::printf("[window] position NEES over %d runs (%s): mean %.2f, %.0f %% of %zu keyframes inside [%.2f, %.2f]\n",
-				runs, use_odometry ? "priors + odometry" : "priors only", mean, 100.0 * inside / sum.size(), sum.size(),
-				lo, hi);
-	return double(inside) / sum.size();
+				runs, use_odometry ? "priors + odometry" : "priors only", b.mean, 100.0 * b.inside, sum.size(), b.lo,
+				b.hi);
+	return b.inside;
 }
 }  // namespace
 
