@@ -13,10 +13,11 @@
 // the run the fastest run's mean ms/step and its last / first tenth (one run's tenths moved by up to ±30 %
 // on a shared machine), beside every run's own last / first.
 // A benchmark, not a test: timings vary ±25 % between runs on shared machines; compare within a run.
+#include "bench_tables.h"
+
 #include <swba/apps/run.h>
 #include <swba/apps/simulate.h>
 #include <swba/eval/ground_truth.h>
-#include <swba/linear/rank_update.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/system/filesystem.h>
@@ -24,13 +25,10 @@
 #include <sys/resource.h>
 
 #include <algorithm>
-#include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <numeric>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -41,20 +39,8 @@ namespace
 using swba::apps::RunOptions;
 using swba::apps::RunReport;
 using swba::apps::RunRow;
-
-std::string fmt(const char* f, double v)
-{
-	char buf[64];
-	std::snprintf(buf, sizeof(buf), f, v);
-	return buf;
-}
-
-/** What one estimator used besides time: its peak resident set and the minor page faults it caused. */
-struct Resources
-{
-	double peak_rss_mib = -1;  ///< −1: unknown (no /proc)
-	long minor_faults = 0;
-};
+using swba::bench::kCovarianceOff;
+using swba::bench::Resources;
 
 /** Resources per row label, filled by ResourceMeter as rows finish. */
 std::map<std::string, Resources>& row_resources()
@@ -104,212 +90,6 @@ class ResourceMeter
 	std::size_t first_ = 0;
 	long faults_at_start_ = 0;
 };
-
-/** The q-quantile (0..1) of v (nearest rank), 0 for an empty v. */
-double quantile_of(std::vector<double> v, double q)
-{
-	if (v.empty()) return 0;
-	std::sort(v.begin(), v.end());
-	const auto i = static_cast<std::size_t>(std::ceil(q * double(v.size()))) - (q > 0 ? 1 : 0);
-	return v[std::min(i, v.size() - 1)];
-}
-
-/** Mean of v over [b, e). */
-double mean_of(const std::vector<double>& v, std::size_t b, std::size_t e)
-{
-	if (e <= b) return 0;
-	return std::accumulate(v.begin() + std::ptrdiff_t(b), v.begin() + std::ptrdiff_t(e), 0.0) / double(e - b);
-}
-
-std::string row_name(const RunRow& r)
-{
-	if (r.name == "window")
-	{
-		const auto prefix = r.label.find(" (first ");
-		return "window " + r.policy + (prefix == std::string::npos ? "" : r.label.substr(prefix));
-	}
-	return r.label;
-}
-
-/** The W column: the window size, or a dash for rows without one. */
-std::string window_cell(const RunRow& r) { return r.window ? std::to_string(r.window) : "–"; }
-
-/** The last seven cells of a timing-table row: where a window's time went (LM solve vs
- * marginalisation) and its state size, means over the steps; dashes for rows without step summaries. */
-std::string step_summary_cells(const RunRow& r)
-{
-	if (r.step_summaries.empty()) return "– | – | – | – | – | – | – |\n";
-	double solve = 0, marg = 0, lms = 0, in_solve = 0;
-	for (const auto& st : r.step_summaries)
-	{
-		solve += st.solve_seconds;
-		marg += st.marginalization_seconds;
-		lms += st.landmarks;
-		in_solve += st.landmarks - st.prior_only_landmarks;
-	}
-	const double n = double(r.step_summaries.size());
-	const auto& last = r.step_summaries.back();
-	std::ostringstream s;
-	s << fmt("%.2f", solve * 1e3 / n) << " | " << fmt("%.2f", marg * 1e3 / n) << " | "
-	  << fmt("%.2f", r.mean_iterations) << " | " << fmt("%.0f", lms / n) << " / " << last.landmarks << " | " << fmt("%.0f", in_solve / n) << " | "
-	  << last.prior_variables << " | " << last.prior_rank << " |\n";
-	return s.str();
-}
-
-/** ms per step with the APE beside it: one row per estimator, its lagged trajectory's APE (the row
- * that follows a window's online row) in the same row; a failure as a note under its row. */
-std::string timing_table(const RunReport& rep)
-{
-	std::ostringstream s;
-	s << "| estimator | W | APE online rmse (m) | APE lagged rmse (m) | ms/step | LM solve ms/step | marginalisation ms/step "
-		 "| mean LM iterations | landmarks in state (mean / end) | landmarks in the LM solve (mean) | prior variables (end) "
-		 "| prior rank (end) |\n";
-	s << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-	for (std::size_t i = 0; i < rep.rows.size(); i++)
-	{
-		const RunRow& r = rep.rows[i];
-		if (r.trajectory == "lagged") continue;
-		const RunRow* lagged = (i + 1 < rep.rows.size() && rep.rows[i + 1].trajectory == "lagged") ? &rep.rows[i + 1] : nullptr;
-		s << "| " << row_name(r) << " | " << window_cell(r) << " | "
-		  << (r.has_ape ? fmt("%.5f", r.ape_trans.rmse) : (r.failed ? "failed" : "–")) << " | "
-		  << (lagged && lagged->has_ape ? fmt("%.5f", lagged->ape_trans.rmse) : "–") << " | " << fmt("%.2f", r.ms_per_step)
-		  << " | " << step_summary_cells(r);
-		if (r.failed) s << "\n(" << r.label << " failed at step " << r.failed_step << ": " << r.failure << ")\n\n";
-	}
-	return s.str();
-}
-
-/** Mean ms/step over the tenth t (0..9) of the steps. */
-double tenth_mean(const std::vector<double>& step_ms, std::size_t t)
-{
-	const std::size_t n = step_ms.size();
-	return mean_of(step_ms, t * n / 10, (t + 1) * n / 10);
-}
-
-/** The header of a table with one column per tenth of the run and a last / first column. */
-std::string tenth_header(const std::string& extra = "")
-{
-	std::ostringstream s;
-	s << "| estimator | W |";
-	for (int t = 1; t <= 10; t++) s << " " << t << "/10 |";
-	s << " last / first |" << extra << "\n|---|---:|";
-	for (int t = 1; t <= 10; t++) s << "---:|";
-	s << "---:|" << (extra.empty() ? "" : "---|") << "\n";
-	return s.str();
-}
-
-/** The per-step cost along the run: mean ms/step over each tenth of the steps, one row per estimator. */
-std::string per_tenth_table(const RunReport& rep)
-{
-	std::ostringstream s;
-	s << tenth_header();
-	for (const auto& r : rep.rows)
-	{
-		if (r.trajectory == "lagged" || r.step_ms.empty()) continue;
-		s << "| " << row_name(r) << " | " << window_cell(r) << " |";
-		for (std::size_t t = 0; t < 10; t++) s << " " << fmt("%.2f", tenth_mean(r.step_ms, t)) << " |";
-		s << " " << fmt("%.2f", tenth_mean(r.step_ms, 9) / tenth_mean(r.step_ms, 0)) << " |\n";
-	}
-	return s.str();
-}
-
-/** The SLAM-policy window's growth along the run over several runs: `runs` holds each run's step times by
- * row label (the main tables' run first). Per tenth the fastest run's mean (the least disturbed by other
- * load on a shared machine), its last / first, and every run's own last / first. */
-std::string growth_table(const std::vector<std::pair<const RunRow*, std::vector<std::vector<double>>>>& runs)
-{
-	std::ostringstream s;
-	s << tenth_header(" each run's last / first |");
-	for (const auto& [row, step_ms] : runs)
-	{
-		double tenth[10];
-		for (std::size_t t = 0; t < 10; t++)
-		{
-			tenth[t] = tenth_mean(step_ms.front(), t);
-			for (const auto& v : step_ms) tenth[t] = std::min(tenth[t], tenth_mean(v, t));
-		}
-		s << "| " << row_name(*row) << " | " << window_cell(*row) << " |";
-		for (double m : tenth) s << " " << fmt("%.2f", m) << " |";
-		s << " " << fmt("%.2f", tenth[9] / tenth[0]) << " |";
-		for (std::size_t i = 0; i < step_ms.size(); i++)
-			s << (i ? ", " : " ") << fmt("%.2f", tenth_mean(step_ms[i], 9) / tenth_mean(step_ms[i], 0));
-		s << " |\n";
-	}
-	return s.str();
-}
-
-/** Per estimator: mean, p50 and p99 of ms/step, peak RSS and minor page faults per step. */
-std::string cost_table(const RunReport& rep)
-{
-	std::ostringstream s;
-	s << "| estimator | W | ms/step mean | p50 | p99 | peak RSS (MiB) | minor page faults / step |\n";
-	s << "|---|---:|---:|---:|---:|---:|---:|\n";
-	for (const auto& r : rep.rows)
-	{
-		if (r.trajectory == "lagged" || r.step_ms.empty()) continue;
-		const auto it = row_resources().find(r.label);
-		const bool known = it != row_resources().end();
-		s << "| " << row_name(r) << " | " << window_cell(r) << " | " << fmt("%.2f", r.ms_per_step) << " | "
-		  << fmt("%.2f", quantile_of(r.step_ms, 0.5)) << " | " << fmt("%.2f", quantile_of(r.step_ms, 0.99)) << " | "
-		  << (known && it->second.peak_rss_mib >= 0 ? fmt("%.0f", it->second.peak_rss_mib) : "–") << " | "
-		  << (known ? fmt("%.0f", double(it->second.minor_faults) / double(r.step_ms.size())) : "–") << " |\n";
-	}
-	return s.str();
-}
-
-/** Label suffix of the rows run with covariance recovery off (--covariance-off). */
-constexpr const char* kCovarianceOff = " (covariances off)";
-
-bool covariance_off(const RunRow& r) { return r.label.find(kCovarianceOff) != std::string::npos; }
-
-/** Covariances on vs off, measured in the same run: per window (online row with its twin run without
- * covariances) the ms/step of each, their ratio, and the recovery's own share of the step time. */
-std::string covariance_table(const RunReport& rep)
-{
-	std::ostringstream s;
-	s << "| estimator | W | ms/step on | ms/step off | on / off | covariance ms/step | covariance share of step |\n";
-	s << "|---|---:|---:|---:|---:|---:|---:|\n";
-	for (const auto& on : rep.rows)
-	{
-		if (on.name != "window" || on.trajectory != "online" || covariance_off(on) || on.step_summaries.empty()) continue;
-		for (const auto& off : rep.rows)
-		{
-			if (!covariance_off(off) || off.trajectory != "online" || off.window != on.window || off.policy != on.policy)
-				continue;
-			double cov = 0, total = 0;
-			for (const auto& st : on.step_summaries)
-			{
-				cov += st.covariance_seconds;
-				total += st.seconds;
-			}
-			const double n = double(on.step_summaries.size());
-			s << "| " << row_name(on) << " | " << window_cell(on) << " | " << fmt("%.2f", on.ms_per_step) << " | "
-			  << fmt("%.2f", off.ms_per_step) << " | " << fmt("%.3f", on.ms_per_step / off.ms_per_step) << " | "
-			  << fmt("%.3f", cov * 1e3 / n) << " | " << fmt("%.1f %%", total > 0 ? 100 * cov / total : 0.0) << " |\n";
-		}
-	}
-	return s.str();
-}
-
-/** The markdown tables of one rawlog. */
-std::string tables(const RunReport& rep, const std::string& title)
-{
-	std::ostringstream s;
-	s << "### " << title << "\n\n";
-	s << "`" << rep.rawlog << "`: " << rep.steps << " steps, " << rep.distinct_landmarks << " landmarks observed, "
-	  << rep.readings << " readings; rank-update kernel " << swba::enum_name(swba::active_simd_level())
-	  << " (swba/linear/rank_update.h).\n\n";
-	s << timing_table(rep);
-	s << "\nCost per step (peak RSS: the process's while that estimator ran, the rawlog in memory included):\n\n";
-	s << cost_table(rep);
-	s << "\nPer-step cost along the run (mean ms/step over each tenth of the steps):\n\n";
-	s << per_tenth_table(rep);
-	s << "\n";
-	bool compared = false;
-	for (const auto& r : rep.rows) compared = compared || covariance_off(r);
-	if (compared) s << "Covariance recovery on vs off (same run):\n\n" << covariance_table(rep) << "\n";
-	return s.str();
-}
 
 /** How many steps of a rawlog to read, and how many of those the EKF and the SLAM-policy window get
  * (0 = all; the constant-time and map windows always get every step read). */
@@ -525,7 +305,7 @@ RunReport run_rawlog(const RunOptions& base, const BenchInput& in, const StepLim
 std::string growth_section(const RunOptions& base, const BenchInput& in, const StepLimits& limits, int runs,
 						   const RunReport& rep)
 {
-	std::vector<std::pair<const RunRow*, std::vector<std::vector<double>>>> rows;
+	swba::bench::GrowthRuns rows;
 	for (const auto& r : rep.rows)
 		if (r.name == "window" && r.policy == "slam" && r.trajectory == "online" && !r.step_ms.empty() && !r.failed)
 			rows.push_back({&r, {r.step_ms}});
@@ -544,7 +324,7 @@ std::string growth_section(const RunOptions& base, const BenchInput& in, const S
 	std::ostringstream s;
 	s << "Growth of the SLAM window's cost along the run over " << runs
 	  << " runs (mean ms/step per tenth of the steps, the fastest run's):\n\n"
-	  << growth_table(rows) << "\n";
+	  << swba::bench::growth_table(rows) << "\n";
 	return s.str();
 }
 
@@ -555,7 +335,7 @@ std::string bench_rawlog(const RunOptions& base, const std::string& rawlog, cons
 {
 	const BenchInput in = read_input(rawlog, limits.read);
 	const RunReport rep = run_rawlog(base, in, limits, compare_covariance);
-	const std::string t = tables(rep, title) + growth_section(base, in, limits, growth, rep);
+	const std::string t = swba::bench::tables(rep, title, row_resources()) + growth_section(base, in, limits, growth, rep);
 	std::cout << t << std::flush;
 	return t;
 }

@@ -98,6 +98,21 @@ class Parser
 	BalProblem parse()
 	{
 		BalProblem bal;
+		const int num_obs = parse_header(bal);
+		parse_observations(num_obs, bal);
+		parse_parameters(bal);
+		std::string_view t;
+		int line = 1;
+		if (scan_.next(t, line))
+			fail(line, "count mismatch: extra data " + quoted(t) + " after the " + std::to_string(bal.num_cameras) +
+						   " cameras and " + std::to_string(bal.num_points) + " points declared by the header");
+		return bal;
+	}
+
+   private:
+	/** The header line: the camera and point counts into `bal`; returns the observation count. */
+	int parse_header(BalProblem& bal)
+	{
 		std::vector<std::string_view> tok;
 		int line = 1;
 		if (!scan_.next_line(tok, line)) fail(1, "empty file: expected the header 'num_cameras num_points num_observations'");
@@ -106,12 +121,18 @@ class Parser
 						   std::to_string(tok.size()) + " values");
 		bal.num_cameras = parse_count(tok[0], line, "num_cameras");
 		bal.num_points = parse_count(tok[1], line, "num_points");
-		const int num_obs = parse_count(tok[2], line, "num_observations");
+		return parse_count(tok[2], line, "num_observations");
+	}
 
+	/** The `num_obs` observation lines 'camera point x y'. */
+	void parse_observations(int num_obs, BalProblem& bal)
+	{
 		// The header's counts do not size allocations: a 20-byte file can declare 10^9 observations.
 		// Storage grows with the data actually read, reserved up to what the text can hold (an
 		// observation line takes at least 8 bytes, a parameter 2), so memory stays proportional to the input.
 		bal.observations.reserve(std::min(static_cast<size_t>(num_obs), text_size_ / 8));
+		std::vector<std::string_view> tok;
+		int line = 1;
 		for (int k = 0; k < num_obs; k++)
 		{
 			if (!scan_.next_line(tok, line))
@@ -127,54 +148,60 @@ class Parser
 			o.x = parse_number(tok[2], line);
 			o.y = parse_number(tok[3], line);
 		}
+	}
 
+	/** The camera parameters, then the point coordinates, one number per token on any line. */
+	void parse_parameters(BalProblem& bal)
+	{
 		const size_t num_cam_values = BalProblem::kCameraParams * static_cast<size_t>(bal.num_cameras);
 		const size_t num_point_values = BalProblem::kPointParams * static_cast<size_t>(bal.num_points);
 		bal.cameras.reserve(std::min(num_cam_values, text_size_ / 2));
 		bal.points.reserve(std::min(num_point_values, text_size_ / 2));
 		const size_t total = num_cam_values + num_point_values;
 		std::string_view t;
+		int line = 1;
 		for (size_t i = 0; i < total; i++)
 		{
 			if (!scan_.next(t, line))
-			{
-				std::string where;
-				if (i < num_cam_values)
-					where = "camera " + std::to_string(i / BalProblem::kCameraParams) + " parameter " +
-							std::to_string(i % BalProblem::kCameraParams);
-				else
-				{
-					const size_t j = i - num_cam_values;
-					where = "point " + std::to_string(j / BalProblem::kPointParams) + " coordinate " +
-							std::to_string(j % BalProblem::kPointParams);
-				}
 				fail(scan_.line(), "truncated file: expected " + std::to_string(total) +
 									   " camera and point parameters after the observations, found only " +
-									   std::to_string(i) + " (missing " + where + ")");
-			}
+									   std::to_string(i) + " (missing " + missing_parameter(i, num_cam_values) + ")");
 			const double v = parse_number(t, line);
 			if (i < num_cam_values)
 				bal.cameras.push_back(v);
 			else
 				bal.points.push_back(v);
 		}
-		if (scan_.next(t, line))
-			fail(line, "count mismatch: extra data " + quoted(t) + " after the " + std::to_string(bal.num_cameras) +
-						   " cameras and " + std::to_string(bal.num_points) + " points declared by the header");
-		return bal;
 	}
 
-   private:
+	/** Which parameter the i-th value is: "camera C parameter P" or "point J coordinate K". */
+	static std::string missing_parameter(size_t i, size_t num_cam_values)
+	{
+		if (i < num_cam_values)
+			return "camera " + std::to_string(i / BalProblem::kCameraParams) + " parameter " +
+				   std::to_string(i % BalProblem::kCameraParams);
+		const size_t j = i - num_cam_values;
+		return "point " + std::to_string(j / BalProblem::kPointParams) + " coordinate " +
+			   std::to_string(j % BalProblem::kPointParams);
+	}
+
 	[[noreturn]] void fail(int line, const std::string& reason) const { throw BalParseError(source_, line, reason); }
 
-	long parse_integer(std::string_view t, int line, const char* what) const
+	/** std::from_chars over the whole token, a leading '+' allowed: the error code (std::errc::invalid_argument
+	 * also when characters are left over). */
+	template <class T>
+	static std::errc from_token(std::string_view t, T& v)
 	{
-		long v = 0;
 		const char* b = t.data();
 		const char* e = b + t.size();
 		if (b != e && *b == '+') b++;
-		auto [ptr, ec] = std::from_chars(b, e, v);
-		if (ec != std::errc() || ptr != e) fail(line, std::string("expected an integer ") + what + ", found " + quoted(t));
+		const auto [ptr, ec] = std::from_chars(b, e, v);
+		return ec == std::errc() && ptr != e ? std::errc::invalid_argument : ec;
+	}
+	long parse_integer(std::string_view t, int line, const char* what) const
+	{
+		long v = 0;
+		if (from_token(t, v) != std::errc()) fail(line, std::string("expected an integer ") + what + ", found " + quoted(t));
 		return v;
 	}
 	int parse_count(std::string_view t, int line, const char* what) const
@@ -194,12 +221,9 @@ class Parser
 	double parse_number(std::string_view t, int line) const
 	{
 		double v = 0;
-		const char* b = t.data();
-		const char* e = b + t.size();
-		if (b != e && *b == '+') b++;
-		auto [ptr, ec] = std::from_chars(b, e, v);
+		const std::errc ec = from_token(t, v);
 		if (ec == std::errc::result_out_of_range) fail(line, "number out of the range of double: " + quoted(t));
-		if (ec != std::errc() || ptr != e) fail(line, "expected a number, found " + quoted(t));
+		if (ec != std::errc()) fail(line, "expected a number, found " + quoted(t));
 		if (!std::isfinite(v)) fail(line, "non-finite number " + quoted(t));
 		return v;
 	}

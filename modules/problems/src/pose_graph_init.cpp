@@ -1,14 +1,13 @@
 // Pose-graph initialisation: odometry spanning tree and chordal relaxation (see pose_graph_init.h).
+#include <swba/core/lie.h>
+#include <swba/core/timing.h>
 #include <swba/linear/block_cholesky.h>
 #include <swba/problems/pose_graph_init.h>
 
-#include "angle_wrap.h"
 #include "pose_graph_residual.h"
 
 #include <Eigen/Cholesky>
-#include <Eigen/SVD>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -19,7 +18,6 @@ namespace swba::problems
 {
 namespace
 {
-using detail::wrap_pm_pi;
 using io::G2oId;
 using io::PoseGraph;
 
@@ -163,6 +161,75 @@ LinearEdge<D, K> linear_edge(const std::pair<int, int>& ends, const JaExpr& Ja, 
 	return e;
 }
 
+/** The normal equations H·x = g of Σ ‖e‖²_Ω over the free (non-anchored) vertices: H's upper blocks in
+ * the order of `pattern.upper_blocks` (the diagonal and every edge between two free vertices, sorted,
+ * without repeats), g per free vertex, the anchored x moved to the right-hand side. */
+template <int D, int K>
+struct AnchoredNormalEquations
+{
+	using Block = Eigen::Matrix<double, D, D, Eigen::RowMajor>;
+	std::vector<int> free_index;  ///< per vertex: its index among the free ones, −1 if anchored
+	int m = 0;					  ///< free vertices
+	BlockPattern pattern;
+	std::vector<Block> H;
+	std::vector<Eigen::Matrix<double, D, K>> g;
+
+	AnchoredNormalEquations(const std::vector<char>& anchored, const std::vector<LinearEdge<D, K>>& edges)
+		: free_index(anchored.size(), -1)
+	{
+		for (size_t v = 0; v < anchored.size(); v++)
+			if (!anchored[v]) free_index[v] = m++;
+		pattern.block_sizes.assign(m, D);
+		for (int i = 0; i < m; i++) pattern.upper_blocks.emplace_back(i, i);
+		for (const auto& e : edges)
+		{
+			const int i = free_index[e.a], j = free_index[e.b];
+			if (i >= 0 && j >= 0 && i != j) pattern.upper_blocks.emplace_back(std::min(i, j), std::max(i, j));
+		}
+		std::sort(pattern.upper_blocks.begin(), pattern.upper_blocks.end());
+		pattern.upper_blocks.erase(std::unique(pattern.upper_blocks.begin(), pattern.upper_blocks.end()),
+								   pattern.upper_blocks.end());
+	}
+
+	/** H's block (i, j), i ≤ j, of the pattern. */
+	Block& block(int i, int j)
+	{
+		const auto& u = pattern.upper_blocks;
+		return H[std::lower_bound(u.begin(), u.end(), std::make_pair(i, j)) - u.begin()];
+	}
+
+	/** Sums every edge's terms, given the anchored vertices' x. */
+	void accumulate(const std::vector<LinearEdge<D, K>>& edges, const std::vector<Eigen::Matrix<double, D, K>>& X)
+	{
+		H.assign(pattern.upper_blocks.size(), Block::Zero());
+		g.assign(m, Eigen::Matrix<double, D, K>::Zero());
+		for (const auto& e : edges)
+		{
+			const int i = free_index[e.a], j = free_index[e.b];
+			Eigen::Matrix<double, D, K> y = e.y;
+			if (i < 0) y -= e.Ja * X[e.a];
+			if (j < 0) y -= e.Jb * X[e.b];
+			const Eigen::Matrix<double, D, D> OJa = e.Omega * e.Ja, OJb = e.Omega * e.Jb;
+			if (i >= 0)
+			{
+				block(i, i) += e.Ja.transpose() * OJa;
+				g[i] += OJa.transpose() * y;
+			}
+			if (j >= 0)
+			{
+				block(j, j) += e.Jb.transpose() * OJb;
+				g[j] += OJb.transpose() * y;
+			}
+			if (i >= 0 && j >= 0)
+			{
+				if (i < j) block(i, j) += e.Ja.transpose() * OJb;
+				else if (j < i) block(j, i) += e.Jb.transpose() * OJa;
+				else block(i, i) += e.Ja.transpose() * OJb + e.Jb.transpose() * OJa;
+			}
+		}
+	}
+};
+
 /** Minimises Σ ‖e‖²_Ω over the non-anchored x (anchored x are inputs): one sparse Cholesky
  * factorisation of the block normal equations, K back-substitutions. `chol` is created on first use
  * and reused by later calls with the same anchors and edge pairs (same pattern: one symbolic analysis). */
@@ -171,75 +238,22 @@ void solve_anchored(const std::vector<char>& anchored, const std::vector<LinearE
 					std::vector<Eigen::Matrix<double, D, K>>& X, std::unique_ptr<BlockCholesky>& chol,
 					const char* what)
 {
-	using Block = Eigen::Matrix<double, D, D, Eigen::RowMajor>;
-	const int n = static_cast<int>(anchored.size());
-	std::vector<int> free_index(n, -1);
-	int m = 0;
-	for (int v = 0; v < n; v++)
-		if (!anchored[v]) free_index[v] = m++;
-	if (m == 0) return;
-	BlockPattern pattern;
-	pattern.block_sizes.assign(m, D);
-	for (int i = 0; i < m; i++) pattern.upper_blocks.emplace_back(i, i);
-	for (const auto& e : edges)
-	{
-		const int i = free_index[e.a], j = free_index[e.b];
-		if (i >= 0 && j >= 0 && i != j) pattern.upper_blocks.emplace_back(std::min(i, j), std::max(i, j));
-	}
-	std::sort(pattern.upper_blocks.begin(), pattern.upper_blocks.end());
-	pattern.upper_blocks.erase(std::unique(pattern.upper_blocks.begin(), pattern.upper_blocks.end()),
-							   pattern.upper_blocks.end());
-	const auto block_index = [&](int i, int j) {
-		return std::lower_bound(pattern.upper_blocks.begin(), pattern.upper_blocks.end(), std::make_pair(i, j)) -
-			   pattern.upper_blocks.begin();
-	};
-	std::vector<Block> H(pattern.upper_blocks.size(), Block::Zero());
-	std::vector<Eigen::Matrix<double, D, K>> g(m, Eigen::Matrix<double, D, K>::Zero());
-	for (const auto& e : edges)
-	{
-		const int i = free_index[e.a], j = free_index[e.b];
-		Eigen::Matrix<double, D, K> y = e.y;
-		if (i < 0) y -= e.Ja * X[e.a];
-		if (j < 0) y -= e.Jb * X[e.b];
-		const Eigen::Matrix<double, D, D> OJa = e.Omega * e.Ja, OJb = e.Omega * e.Jb;
-		if (i >= 0)
-		{
-			H[block_index(i, i)] += e.Ja.transpose() * OJa;
-			g[i] += OJa.transpose() * y;
-		}
-		if (j >= 0)
-		{
-			H[block_index(j, j)] += e.Jb.transpose() * OJb;
-			g[j] += OJb.transpose() * y;
-		}
-		if (i >= 0 && j >= 0)
-		{
-			if (i < j) H[block_index(i, j)] += e.Ja.transpose() * OJb;
-			else if (j < i) H[block_index(j, i)] += e.Jb.transpose() * OJa;
-			else H[block_index(i, i)] += e.Ja.transpose() * OJb + e.Jb.transpose() * OJa;
-		}
-	}
-	std::vector<const double*> blocks(H.size());
-	for (size_t k = 0; k < H.size(); k++) blocks[k] = H[k].data();
-	if (!chol) chol = BlockCholesky::sparse(pattern);
+	AnchoredNormalEquations<D, K> ne(anchored, edges);
+	if (ne.m == 0) return;
+	ne.accumulate(edges, X);
+	std::vector<const double*> blocks(ne.H.size());
+	for (size_t k = 0; k < ne.H.size(); k++) blocks[k] = ne.H[k].data();
+	if (!chol) chol = BlockCholesky::sparse(ne.pattern);
 	if (!chol->factorize(blocks))
 		throw std::runtime_error(std::string(what) + ": the normal equations are not positive definite");
-	Eigen::VectorXd rhs(m * D);
+	Eigen::VectorXd rhs(ne.m * D);
 	for (int k = 0; k < K; k++)
 	{
-		for (int i = 0; i < m; i++) rhs.template segment<D>(i * D) = g[i].col(k);
+		for (int i = 0; i < ne.m; i++) rhs.template segment<D>(i * D) = ne.g[i].col(k);
 		chol->solve(rhs.data());
-		for (int v = 0; v < n; v++)
-			if (free_index[v] >= 0) X[v].col(k) = rhs.template segment<D>(free_index[v] * D);
+		for (size_t v = 0; v < anchored.size(); v++)
+			if (ne.free_index[v] >= 0) X[v].col(k) = rhs.template segment<D>(ne.free_index[v] * D);
 	}
-}
-
-Eigen::Matrix3d project_to_so3(const Eigen::Matrix3d& A)
-{
-	const Eigen::JacobiSVD<Eigen::Matrix3d> svd(A, Eigen::ComputeFullU | Eigen::ComputeFullV);
-	Eigen::Matrix3d U = svd.matrixU();
-	if ((U * svd.matrixV().transpose()).determinant() < 0) U.col(2) = -U.col(2);
-	return U * svd.matrixV().transpose();
 }
 
 // ---------------------------------------------------------------- 3D
@@ -318,13 +332,13 @@ void odometry2(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& anch
 		const Eigen::Vector2d p_ab(e.x, e.y);
 		if (forward)
 		{
-			if (rotations_too) b.theta = wrap_pm_pi(a.theta + e.theta);
+			if (rotations_too) b.theta = wrap_to_pi(a.theta + e.theta);
 			const Eigen::Vector2d p = Eigen::Vector2d(a.x, a.y) + rot2(a.theta) * p_ab;
 			b.x = p.x(), b.y = p.y();
 		}
 		else
 		{
-			if (rotations_too) a.theta = wrap_pm_pi(b.theta - e.theta);
+			if (rotations_too) a.theta = wrap_to_pi(b.theta - e.theta);
 			const Eigen::Vector2d p = Eigen::Vector2d(b.x, b.y) - rot2(a.theta) * p_ab;
 			a.x = p.x(), a.y = p.y();
 		}
@@ -366,7 +380,7 @@ void chordal2(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& ancho
 		const auto& e = g.edges2[k];
 		const auto& va = g.vertices2.at(e.from);
 		const auto& vb = g.vertices2.at(e.to);
-		const double r_theta = wrap_pm_pi(vb.theta - va.theta - e.theta);
+		const double r_theta = wrap_to_pi(vb.theta - va.theta - e.theta);
 		const Eigen::Matrix2d L_pp = e.information.topLeftCorner<2, 2>();
 		const Eigen::Vector2d c = L_pp.ldlt().solve(e.information.topRightCorner<2, 1>() * r_theta);
 		const Eigen::Matrix2d Ra = rot2(va.theta);
@@ -396,7 +410,7 @@ std::string PoseGraphInitSummary::brief() const
 
 PoseGraphInitSummary initialize_pose_graph(PoseGraph& g, const PoseGraphInitOptions& o)
 {
-	const auto t0 = std::chrono::steady_clock::now();
+	const auto t0 = SteadyClock::now();
 	PoseGraphInitSummary s;
 	s.method = o.method;
 	if (g.num_vertices() == 0) return s;
@@ -412,7 +426,7 @@ PoseGraphInitSummary initialize_pose_graph(PoseGraph& g, const PoseGraphInitOpti
 		if (g.is_2d()) chordal2(g, gi, anchored, o);
 		else chordal3(g, gi, anchored, o);
 	}
-	s.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	s.time_s = seconds_since(t0);
 	return s;
 }
 }  // namespace swba::problems

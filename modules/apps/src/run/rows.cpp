@@ -165,12 +165,12 @@ RunRow run_ekf_row(const RowContext& ctx, const std::string& method, std::vector
 	if (ctx.base.association == estimators::DataAssociation::Jcbb) eo.data_association = "jcbb";
 	set_ekf_sensor_noise(ctx, eo);
 	ProgressLine progress(ctx.log, ctx.options.progress, row.label, ctx.rawlog.steps.size());
-	auto last = Clock::now();
+	auto last = SteadyClock::now();
 	std::size_t steps_done = 0;
 	eo.progress = [&](std::size_t done, std::size_t) {
 		if (ctx.stopped()) throw std::runtime_error(kInterrupted);  // the filter reports it as its failure
 		steps_done = done;
-		const auto now = Clock::now();
+		const auto now = SteadyClock::now();
 		row.step_ms.push_back(std::chrono::duration<double, std::milli>(now - last).count());
 		last = now;
 		progress.update(done);
@@ -226,17 +226,48 @@ RunRow window_row(const estimators::SlidingWindowOptions& wo, bool combos)
 	online.file = "window_" + W + file_suffix + ".tum";
 	return online;
 }
+
+/** The lagged row beside an online one (same window, its own label and file). */
+RunRow lagged_row(const RunRow& online)
+{
+	RunRow lagged = online;
+	lagged.trajectory = "lagged";
+	lagged.label = online.label + " lagged";
+	lagged.file = online.file.substr(0, online.file.size() - 4) + "_lagged.tum";
+	return lagged;
+}
+
+/** After the last step: the window finished (its time added to `total`), both trajectories in the
+ * gauge's frame, the readings and associations, and with wo.covariances the covariances and the
+ * landmark map (the map's time added to `total` and, with every step's, to covariance_seconds). */
+void collect_window_results(estimators::SlidingWindowEstimator& est, const estimators::SlidingWindowOptions& wo,
+							RunRow& online, RunRow& lagged, double& total)
+{
+	const auto t0 = SteadyClock::now();
+	est.finish();
+	total += seconds_since(t0);
+	online.step_summaries = est.step_summaries();
+	online.reading_counts = lagged.reading_counts = est.reading_counts();
+	online.assigned_ids = lagged.assigned_ids = est.assigned_ids();
+	online.estimate = after_steps(in_gauge_frame(est.online_trajectory(), wo, est.initial_pose()));
+	lagged.estimate = after_steps(in_gauge_frame(est.lagged_trajectory(), wo, est.initial_pose()));
+	if (!wo.covariances) return;
+	online.covariance = after_steps(est.online_trajectory(), est.online_covariances());
+	lagged.covariance = after_steps(est.lagged_trajectory(), est.lagged_covariances());
+	const auto t1 = SteadyClock::now();
+	online.landmarks = lagged.landmarks = landmark_frame(est.landmark_estimates(), wo, est.initial_pose());
+	double cov_seconds = seconds_since(t1);
+	for (const auto& s : est.step_summaries()) cov_seconds += s.covariance_seconds;
+	total += seconds_since(t1);
+	online.covariance_seconds = lagged.covariance_seconds = cov_seconds;
+}
 }  // namespace
 
 std::pair<RunRow, RunRow> run_window_rows(const RowContext& ctx, const estimators::SlidingWindowOptions& wo,
 										  bool combos)
 {
 	RunRow online = window_row(wo, combos);
-	RunRow lagged = online;
-	lagged.trajectory = "lagged";
-	lagged.label = online.label + " lagged";
-	lagged.file = online.file.substr(0, online.file.size() - 4) + "_lagged.tum";
-
+	RunRow lagged = lagged_row(online);
 	ProgressLine progress(ctx.log, ctx.options.progress, online.label, ctx.rawlog.steps.size());
 	double total = 0, iterations = 0;
 	std::size_t done = 0;
@@ -246,7 +277,7 @@ std::pair<RunRow, RunRow> run_window_rows(const RowContext& ctx, const estimator
 		for (const auto& step : ctx.rawlog.steps)
 		{
 			if (ctx.stopped()) break;
-			const auto t0 = Clock::now();
+			const auto t0 = SteadyClock::now();
 			const estimators::StepSummary& s = est.process(step);
 			const double dt = seconds_since(t0);
 			if (ctx.options.verbose) log_step_summary(ctx.log, online.label, s, dt);
@@ -255,25 +286,7 @@ std::pair<RunRow, RunRow> run_window_rows(const RowContext& ctx, const estimator
 			online.step_ms.push_back(dt * 1e3);
 			progress.update(++done);
 		}
-		const auto t0 = Clock::now();
-		est.finish();
-		total += seconds_since(t0);
-		online.step_summaries = est.step_summaries();
-		online.reading_counts = lagged.reading_counts = est.reading_counts();
-		online.assigned_ids = lagged.assigned_ids = est.assigned_ids();
-		online.estimate = after_steps(in_gauge_frame(est.online_trajectory(), wo, est.initial_pose()));
-		lagged.estimate = after_steps(in_gauge_frame(est.lagged_trajectory(), wo, est.initial_pose()));
-		if (wo.covariances)
-		{
-			online.covariance = after_steps(est.online_trajectory(), est.online_covariances());
-			lagged.covariance = after_steps(est.lagged_trajectory(), est.lagged_covariances());
-			const auto t1 = Clock::now();
-			online.landmarks = lagged.landmarks = landmark_frame(est.landmark_estimates(), wo, est.initial_pose());
-			double cov_seconds = seconds_since(t1);
-			for (const auto& s : est.step_summaries()) cov_seconds += s.covariance_seconds;
-			total += seconds_since(t1);
-			online.covariance_seconds = lagged.covariance_seconds = cov_seconds;
-		}
+		collect_window_results(est, wo, online, lagged, total);
 	}
 	catch (const std::exception& e)
 	{
@@ -309,7 +322,7 @@ RunRow single_task_row(const RowContext& ctx, RunRow row, const std::string& ann
 		return row;
 	}
 	if (announce) progress.announce(announcement);
-	const auto t0 = Clock::now();
+	const auto t0 = SteadyClock::now();
 	try
 	{
 		task(row);

@@ -18,6 +18,7 @@
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace swba::apps
 {
@@ -162,9 +163,8 @@ std::string format_across_csv(const AcrossRawlogs& a)
 	return s.str();
 }
 
-/** One rawlog: its jobs merged into `dir`. */
-RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptions& config, const std::string& dir,
-					  const MergeOptions& options, std::vector<std::string>& files)
+/** A rawlog's jobs' summary.json files; throws std::runtime_error when they did not run on the same rawlog. */
+std::vector<JobSummary> read_group_jobs(const SweepPlan& plan, const SweepGroup& g)
 {
 	std::vector<JobSummary> jobs;
 	for (std::size_t id : g.jobs) jobs.push_back(read_job_summary(job_directory(plan, plan.jobs[id - 1])));
@@ -173,19 +173,14 @@ RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptio
 			if (j.json.at(key) != jobs.front().json.at(key))
 				throw std::runtime_error(j.path + ": " + key + " differs from " + jobs.front().path +
 										 "'s: the jobs did not run on the same rawlog");
-	ordered_json merged = jobs.front().json;
-	const auto rows = merged_estimators(jobs);
-	merged["estimators"] = ordered_json::array();
-	for (const auto& r : rows) merged["estimators"].push_back(r.entry);
+	return jobs;
+}
 
-	std::error_code ec;
-	fs::create_directories(dir, ec);
-	if (ec) throw std::runtime_error("cannot create '" + dir + "': " + ec.message());
-	RunReport report;
-	report.rawlog = merged.at("rawlog").get<std::string>();
-	report.ground_truth = merged.at("ground_truth").is_null() ? "" : merged.at("ground_truth").get<std::string>();
-	report.steps = merged.at("steps").get<std::size_t>();
-	report.distinct_landmarks = merged.at("landmarks").get<std::size_t>();
+/** The merged report's rows (with their association notes), each row's trajectory file, every job's
+ * covariance files and the ground truth copied into `dir`. */
+void merge_rows_and_copy_files(const std::vector<JobSummary>& jobs, const std::vector<MergedRow>& rows,
+							   const std::string& dir, RunReport& report, std::vector<std::string>& files)
+{
 	for (const auto& m : rows)
 	{
 		const JobSummary& j = jobs[m.job];
@@ -202,18 +197,12 @@ RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptio
 			if (entry.is_regular_file() && entry.path().extension() == ".cov")
 				copy_file(entry.path().string(), dir + "/" + entry.path().filename().string(), files);
 	if (fs::exists(jobs.front().dir + "/gt.tum")) copy_file(jobs.front().dir + "/gt.tum", dir + "/gt.tum", files);
+}
 
-	RunOptions run = config;
-	run.out_dir = dir;
-	run.rawlog = report.rawlog;
-	run.ground_truth = report.ground_truth;
-	run.windows = plan.windows;
-	run.plots = options.plots;
-	auto write = [&](const std::string& name, const std::string& text) {
-		write_file_atomically(dir + "/" + name, [&](std::ostream& f) { f << text; });
-		files.push_back(dir + "/" + name);
-	};
-	// ape.txt and ape.csv: the jobs' own rows, in the merged order (every column they have, verbatim).
+/** ape.txt and ape.csv: the jobs' own records, in the merged order (every column they have, verbatim). */
+std::pair<std::string, std::string> merged_ape_text_and_csv(const std::vector<JobSummary>& jobs,
+															 const std::vector<MergedRow>& rows)
+{
 	std::vector<std::vector<std::string>> csv, text;
 	for (const auto& j : jobs)
 	{
@@ -226,26 +215,63 @@ RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptio
 		merged_csv += csv[m.job][m.index + 1];
 		merged_text += text[m.job][m.index];
 	}
-	write("ape.txt", merged_text);
-	write("ape.csv", merged_csv);
+	return {merged_text, merged_csv};
+}
+
+/** The plots swba run draws, from the merged rows (as swba run: without gnuplot their data and scripts
+ * are written all the same). */
+void draw_merged_plots(const RunOptions& run, const std::string& dir, RunReport& report,
+					   std::vector<std::string>& files)
+{
+	if (eval::find_gnuplot().empty())
+		report.notes.push_back("gnuplot not found: plots not drawn; their data (.dat) and scripts (.gp) are in " + dir +
+							   "/ and " + dir + "/plots/ (cd there && gnuplot <name>.gp)");
+	std::vector<mrpt::poses::CPose3D> gt;
+	if (!report.ground_truth.empty()) gt = eval::read_ground_truth_for(report.ground_truth, report.steps);
+	for (auto& r : report.rows)
+		if (r.has_ape && !r.estimate.empty())
+			r.ape_trans_errors = eval::ape_errors_against_ground_truth(gt, r.estimate, eval::PoseRelation::TranslationPart);
+	report.files.clear();
+	write_run_plots(run, gt, report);
+	files.insert(files.end(), report.files.begin(), report.files.end());
+}
+
+/** One rawlog: its jobs merged into `dir`. */
+RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptions& config, const std::string& dir,
+					  const MergeOptions& options, std::vector<std::string>& files)
+{
+	const std::vector<JobSummary> jobs = read_group_jobs(plan, g);
+	ordered_json merged = jobs.front().json;
+	const auto rows = merged_estimators(jobs);
+	merged["estimators"] = ordered_json::array();
+	for (const auto& r : rows) merged["estimators"].push_back(r.entry);
+
+	std::error_code ec;
+	fs::create_directories(dir, ec);
+	if (ec) throw std::runtime_error("cannot create '" + dir + "': " + ec.message());
+	RunReport report;
+	report.rawlog = merged.at("rawlog").get<std::string>();
+	report.ground_truth = merged.at("ground_truth").is_null() ? "" : merged.at("ground_truth").get<std::string>();
+	report.steps = merged.at("steps").get<std::size_t>();
+	report.distinct_landmarks = merged.at("landmarks").get<std::size_t>();
+	merge_rows_and_copy_files(jobs, rows, dir, report, files);
+
+	RunOptions run = config;
+	run.out_dir = dir;
+	run.rawlog = report.rawlog;
+	run.ground_truth = report.ground_truth;
+	run.windows = plan.windows;
+	run.plots = options.plots;
+	auto write = [&](const std::string& name, const std::string& text) {
+		write_text_file_atomically(dir + "/" + name, text);
+		files.push_back(dir + "/" + name);
+	};
+	const auto [ape_text, ape_csv] = merged_ape_text_and_csv(jobs, rows);
+	write("ape.txt", ape_text);
+	write("ape.csv", ape_csv);
 	write("summary.json", merged.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n");
 	write("config.ini", "# swba run: the options of this run (load with --config)\n" + format_run_config(run));
-
-	if (options.plots)
-	{
-		// As swba run: without gnuplot the plots' data and scripts are written all the same.
-		if (eval::find_gnuplot().empty())
-			report.notes.push_back("gnuplot not found: plots not drawn; their data (.dat) and scripts (.gp) are in " +
-								   dir + "/ and " + dir + "/plots/ (cd there && gnuplot <name>.gp)");
-		std::vector<mrpt::poses::CPose3D> gt;
-		if (!report.ground_truth.empty()) gt = eval::read_ground_truth_for(report.ground_truth, report.steps);
-		for (auto& r : report.rows)
-			if (r.has_ape && !r.estimate.empty())
-				r.ape_trans_errors = eval::ape_errors_against_ground_truth(gt, r.estimate, eval::PoseRelation::TranslationPart);
-		report.files.clear();
-		write_run_plots(run, gt, report);
-		files.insert(files.end(), report.files.begin(), report.files.end());
-	}
+	if (options.plots) draw_merged_plots(run, dir, report, files);
 	return report;
 }
 }  // namespace
@@ -288,8 +314,7 @@ RunMerge merge_run_sweep(const SweepPlan& plan, const MergeOptions& options, std
 		for (const auto& [name, content] : {std::make_pair("ape_across_rawlogs.txt", text),
 											std::make_pair("ape_across_rawlogs.csv", format_across_csv(across))})
 		{
-			const std::string& body = content;  // a structured binding cannot be captured before C++20 (clang)
-			write_file_atomically(out_dir + "/" + name, [&](std::ostream& f) { f << body; });
+			write_text_file_atomically(out_dir + "/" + name, content);
 			result.files.push_back(out_dir + "/" + name);
 		}
 	}

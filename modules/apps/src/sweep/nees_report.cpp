@@ -107,70 +107,55 @@ void plot_quantity(const std::string& dir, const NeesReport& report, bool positi
 	const auto out = eval::plot_lines(dir, "nees_" + what, p);
 	files.insert(files.end(), out.files.begin(), out.files.end());
 }
-}  // namespace
+/** Each estimator's NEES runs over the sweep's jobs, by label. */
+using NeesRunsByLabel = std::map<std::string, std::vector<eval::RunNees>>;
 
-NeesReport merge_nees_sweep(const SweepPlan& plan, const MergeOptions& options, std::ostream& out, std::ostream& log)
+/** One job's rows: each estimator's NEES run against the job's ground truth, or its failure (estimators
+ * enter `report` in the order first seen, `index` maps their labels there). */
+void add_job_nees(const JobSummary& s, long seed, NeesReport& report, std::map<std::string, std::size_t>& index,
+				  NeesRunsByLabel& runs)
 {
-	if (plan.kind != SweepKind::Nees) throw std::invalid_argument("not a NEES sweep");
-	check_jobs_complete(plan, log);
-	NeesReport report;
-	report.simulate_ini = plan.simulate_ini;
-	std::map<std::string, std::vector<eval::RunNees>> runs;
-	std::map<std::string, std::size_t> index;
-	for (const auto& g : plan.groups)
+	if (report.steps == 0) report.steps = s.json.at("steps").get<std::size_t>();
+	if (s.json.at("ground_truth").is_null()) throw std::runtime_error(s.path + ": the run had no ground truth: no NEES");
+	const std::string gt_path = s.json.at("ground_truth").get<std::string>();
+	const auto gt = eval::read_ground_truth_for(gt_path, s.json.at("steps").get<std::size_t>());
+	for (const auto& e : s.json.at("estimators"))
 	{
-		report.seeds.push_back(g.seed);
-		for (std::size_t id : g.jobs)
+		const RunRow row = run_row_from_json(e, s.dir, s.path);
+		if (!index.count(row.label))
 		{
-			const SweepJob& job = plan.jobs[id - 1];
-			const JobSummary s = read_job_summary(job_directory(plan, job));
-			if (report.steps == 0) report.steps = s.json.at("steps").get<std::size_t>();
-			if (s.json.at("ground_truth").is_null())
-				throw std::runtime_error(s.path + ": the run had no ground truth: no NEES");
-			const std::string gt_path = s.json.at("ground_truth").get<std::string>();
-			const auto gt = eval::read_ground_truth_for(gt_path, s.json.at("steps").get<std::size_t>());
-			for (const auto& e : s.json.at("estimators"))
-			{
-				const RunRow row = run_row_from_json(e, s.dir, s.path);
-				if (!index.count(row.label))
-				{
-					index[row.label] = report.estimators.size();
-					report.estimators.push_back({row.label, 0, {}, 0, {}});
-				}
-				NeesEstimator& est = report.estimators[index[row.label]];
-				if (row.failed)
-				{
-					est.failures.push_back("seed " + std::to_string(g.seed) + ": failed at step " +
-										   std::to_string(row.failed_step) + ": " + row.failure);
-					continue;
-				}
-				if (row.file.empty()) throw std::runtime_error(s.path + ": " + row.label + " has no trajectory file");
-				const std::string cov = find_covariance_file(s.dir, row);
-				if (cov.empty())
-					throw std::runtime_error("no covariance file " + s.dir + "/" + covariance_file_name(row.file) +
-											 ": swba run writes <stem>.cov next to each TUM file (doc/sweeps.md); this "
-											 "job's run wrote none, so there is no NEES");
-				runs[row.label].push_back(eval::run_nees(row.estimate, eval::read_covariance_file(cov), gt, cov));
-				est.fixed_poses += runs[row.label].back().fixed_poses;
-				est.runs++;
-			}
+			index[row.label] = report.estimators.size();
+			report.estimators.push_back({row.label, 0, {}, 0, {}});
 		}
+		NeesEstimator& est = report.estimators[index[row.label]];
+		if (row.failed)
+		{
+			est.failures.push_back("seed " + std::to_string(seed) + ": failed at step " +
+								   std::to_string(row.failed_step) + ": " + row.failure);
+			continue;
+		}
+		if (row.file.empty()) throw std::runtime_error(s.path + ": " + row.label + " has no trajectory file");
+		const std::string cov = find_covariance_file(s.dir, row);
+		if (cov.empty())
+			throw std::runtime_error("no covariance file " + s.dir + "/" + covariance_file_name(row.file) +
+									 ": swba run writes <stem>.cov next to each TUM file (doc/sweeps.md); this "
+									 "job's run wrote none, so there is no NEES");
+		runs[row.label].push_back(eval::run_nees(row.estimate, eval::read_covariance_file(cov), gt, cov));
+		est.fixed_poses += runs[row.label].back().fixed_poses;
+		est.runs++;
 	}
-	for (auto& e : report.estimators)
-	{
-		e.average = eval::average_nees(runs[e.label]);
-		for (const auto& f : e.failures) log << "swba nees: " << e.label << ": " << f << ": left out of the average\n";
-	}
+}
 
-	const std::string dir = options.out_dir.empty() ? plan.dir + "/nees" : options.out_dir;
+/** nees.txt, nees.csv and (with gnuplot) the plots into `dir`; returns the table. */
+std::string write_nees_files(const std::string& dir, const MergeOptions& options, NeesReport& report, std::ostream& log)
+{
 	std::error_code ec;
 	fs::create_directories(dir, ec);
 	if (ec) throw std::runtime_error("cannot create '" + dir + "': " + ec.message());
 	const std::string table = format_nees_table(report);
 	for (const auto& [name, text] : {std::make_pair("nees.txt", table), std::make_pair("nees.csv", format_nees_csv(report))})
 	{
-		const std::string& body = text;  // a structured binding cannot be captured before C++20 (clang)
-		write_file_atomically(dir + "/" + name, [&](std::ostream& f) { f << body; });
+		write_text_file_atomically(dir + "/" + name, text);
 		report.files.push_back(dir + "/" + name);
 	}
 	if (options.plots)
@@ -180,6 +165,31 @@ NeesReport merge_nees_sweep(const SweepPlan& plan, const MergeOptions& options, 
 		else
 			for (const bool position : {true, false}) plot_quantity(dir, report, position, report.files);
 	}
+	return table;
+}
+}  // namespace
+
+NeesReport merge_nees_sweep(const SweepPlan& plan, const MergeOptions& options, std::ostream& out, std::ostream& log)
+{
+	if (plan.kind != SweepKind::Nees) throw std::invalid_argument("not a NEES sweep");
+	check_jobs_complete(plan, log);
+	NeesReport report;
+	report.simulate_ini = plan.simulate_ini;
+	NeesRunsByLabel runs;
+	std::map<std::string, std::size_t> index;
+	for (const auto& g : plan.groups)
+	{
+		report.seeds.push_back(g.seed);
+		for (std::size_t id : g.jobs)
+			add_job_nees(read_job_summary(job_directory(plan, plan.jobs[id - 1])), g.seed, report, index, runs);
+	}
+	for (auto& e : report.estimators)
+	{
+		e.average = eval::average_nees(runs[e.label]);
+		for (const auto& f : e.failures) log << "swba nees: " << e.label << ": " << f << ": left out of the average\n";
+	}
+	const std::string dir = options.out_dir.empty() ? plan.dir + "/nees" : options.out_dir;
+	const std::string table = write_nees_files(dir, options, report, log);
 	out << table << std::flush;
 	log << "swba nees: wrote " << report.files.size() << " files into " << dir << "/\n";
 	return report;
