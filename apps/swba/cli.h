@@ -5,6 +5,7 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 namespace swba::app
@@ -45,4 +46,18 @@ struct UsageError : std::runtime_error
 {
 	using std::runtime_error::runtime_error;
 };
+
+/** options.validate(), its std::invalid_argument turned into a UsageError with the same message. */
+template <class Options>
+void validate_usage(const Options& options)
+{
+	try
+	{
+		options.validate();
+	}
+	catch (const std::invalid_argument& e)
+	{
+		throw UsageError(e.what());
+	}
+}
 }  // namespace swba::app

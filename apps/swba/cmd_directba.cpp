@@ -59,7 +59,7 @@ swba::apps::DirectBAAppOptions options_from(DirectbaCommandLine& a)
 	opt.factor.border = a.border.getValue();
 	if (a.huber_delta.getValue() < 0) throw UsageError("--huber-delta must be >= 0");
 	if (a.fixed_cameras.isSet() && a.fixed_cameras.getValue() < 0) throw UsageError("--fixed-cameras must be >= 0");
-	if (std::string why; !opt.is_valid(&why)) throw UsageError(why);
+	swba::app::validate_usage(opt);
 	o.synthetic = a.synthetic.getValue();
 	o.dataset_dir = a.dir.getValue();
 	if (o.synthetic && !o.dataset_dir.empty()) throw UsageError("--synthetic takes no DIR");

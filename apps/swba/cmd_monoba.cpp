@@ -68,7 +68,7 @@ void set_scene(MonobaCommandLine& a, swba::problems::MonoBASceneOptions& so)
 									"]");
 	so.seed = static_cast<unsigned>(a.seed.getValue());
 	so.pose_noise_from = a.fix.getValue();
-	if (std::string why; !so.is_valid(&why)) throw std::invalid_argument(why);
+	so.validate();
 }
 
 /** Gauge, anchors and weight, with the flag combinations that make no sense rejected. */
@@ -92,7 +92,7 @@ void set_adjustment(MonobaCommandLine& a, int num_cameras, swba::apps::MonoBAOpt
 	mo.solver.max_iterations = a.max_iterations.getValue();
 	mo.solver.num_threads = a.threads.getValue();
 	mo.solver.progress_to_stdout = a.progress.getValue() && !sweep;
-	if (std::string why; !mo.is_valid(&why)) throw std::invalid_argument(why);
+	mo.validate();
 }
 
 /** The typed options; invalid values and flag combinations are usage errors. */
@@ -106,7 +106,7 @@ swba::apps::MonoBAAppOptions options_from(MonobaCommandLine& a)
 		o.sweep = a.sweep.getValue();
 		o.sweep_seeds = a.seeds.getValue();
 		o.repetitions = a.repetitions.getValue();
-		if (std::string why; !o.sweep_options().is_valid(&why)) throw std::invalid_argument(why);
+		o.sweep_options().validate();
 		if (a.seeds.isSet() && !o.sweep) throw std::invalid_argument("--seeds needs --sweep-prior-weights");
 	}
 	catch (const std::invalid_argument& e)

@@ -95,7 +95,7 @@ swba::apps::PgoAppOptions options_from(PgoCommandLine& a)
 	o.solver.function_tolerance = a.function_tolerance.getValue();
 	o.solver.initial_trust_region_radius = a.initial_radius.getValue();
 	o.solver.progress_to_stdout = !a.quiet.getValue();
-	if (std::string why; !o.is_valid(&why)) throw swba::app::UsageError(why);
+	swba::app::validate_usage(o);
 	return o;
 }
 

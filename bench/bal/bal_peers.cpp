@@ -1,9 +1,9 @@
 #include "bal_peers.h"
 
+#include <swba/core/timing.h>
 #include <swba/nonlinear/solver.h>
 #include <swba/problems/bal.h>
 
-#include <chrono>
 
 namespace swba::bench
 {
@@ -14,16 +14,14 @@ PeerResult solve_swba(const io::BalProblem& bal, const PeerSettings& s)
 	SolverOptions o;
 	o.num_threads = s.num_threads;
 	o.max_iterations = s.max_iterations;
-	o.function_tolerance = s.function_tolerance;
-	o.gradient_tolerance = s.gradient_tolerance;
-	o.parameter_tolerance = s.parameter_tolerance;
+	set_tolerances(s, o);
 	o.linear_solver = s.dense ? LinearSolverType::DenseSchur : LinearSolverType::SparseSchur;
 	o.stop_at_cost = s.stop_at_cost;
-	const auto t0 = std::chrono::steady_clock::now();
+	const auto t0 = SteadyClock::now();
 	const Summary summary = solve(problem, o);
-	const auto t1 = std::chrono::steady_clock::now();
+	const double solve_time_s = seconds_since(t0);
 	PeerResult r;
-	r.solve_time_s = std::chrono::duration<double>(t1 - t0).count();
+	r.solve_time_s = solve_time_s;
 	r.initial_cost = summary.initial_cost;
 	r.final_cost = summary.final_cost;
 	r.iterations = summary.iterations;

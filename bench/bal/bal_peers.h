@@ -21,6 +21,16 @@ struct PeerSettings
 	double stop_at_cost = -1;  ///< stop once cost ≤ this (ours only; Ceres's log is used instead)
 };
 
+/** The three stopping tolerances of `s` into a solver's options (swba's SolverOptions and Ceres's
+ * Solver::Options spell them alike). */
+template <class Options>
+void set_tolerances(const PeerSettings& s, Options& o)
+{
+	o.function_tolerance = s.function_tolerance;
+	o.gradient_tolerance = s.gradient_tolerance;
+	o.parameter_tolerance = s.parameter_tolerance;
+}
+
 struct PeerIteration
 {
 	int iteration = 0;

@@ -7,6 +7,8 @@
 // time to the target is measured by a separate run with SolverOptions::stop_at_cost = target, Ceres's
 // from its iteration log (cumulative time at the first iteration whose cost is ≤ target).
 // Times are medians over --repeat repetitions, the configurations interleaved.
+#include <swba/eval/text_format.h>
+
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -178,12 +180,8 @@ double median(std::vector<double> v)
 	return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
-std::string fmt(const char* f, double v)
-{
-	char buf[64];
-	std::snprintf(buf, sizeof(buf), f, v);
-	return buf;
-}
+/** A table cell: `v` by the printf conversion `f`. */
+std::string fmt(const char* f, double v) { return swba::eval::format_printf(f, v); }
 
 struct BenchCommandLine
 {

@@ -5,8 +5,8 @@
 #include <ceres/problem.h>
 #include <ceres/rotation.h>
 #include <ceres/solver.h>
+#include <swba/core/timing.h>
 
-#include <chrono>
 #include <memory>
 
 #include "bal_peers.h"
@@ -57,19 +57,17 @@ PeerResult solve_ceres(const io::BalProblem& bal_in, const PeerSettings& s)
 	o.linear_solver_ordering = ordering;
 	o.num_threads = s.num_threads;
 	o.max_num_iterations = s.max_iterations;
-	o.function_tolerance = s.function_tolerance;
-	o.gradient_tolerance = s.gradient_tolerance;
-	o.parameter_tolerance = s.parameter_tolerance;
+	set_tolerances(s, o);
 	o.logging_type = ceres::SILENT;
 	std::string why;
 	if (!o.IsValid(&why)) throw std::runtime_error("Ceres options: " + why);
 
 	ceres::Solver::Summary summary;
-	const auto t0 = std::chrono::steady_clock::now();
+	const auto t0 = SteadyClock::now();
 	ceres::Solve(o, &problem, &summary);
-	const auto t1 = std::chrono::steady_clock::now();
+	const double solve_time_s = seconds_since(t0);
 	PeerResult r;
-	r.solve_time_s = std::chrono::duration<double>(t1 - t0).count();
+	r.solve_time_s = solve_time_s;
 	r.initial_cost = summary.initial_cost;
 	r.final_cost = summary.final_cost;
 	r.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;

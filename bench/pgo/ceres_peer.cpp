@@ -142,7 +142,7 @@ Result run_ceres(const io::PoseGraph& input, const Settings& s, RotationError mo
 	for (int rep = 0; rep < s.repeat; rep++)
 	{
 		io::PoseGraph g = input;
-		auto t0 = Clock::now();
+		auto t0 = SteadyClock::now();
 		ceres::Problem problem;
 		Parameters params;
 		build_problem(g, model, params, problem);
@@ -159,7 +159,7 @@ Result run_ceres(const io::PoseGraph& input, const Settings& s, RotationError mo
 			o.max_trust_region_radius = std::max(o.max_trust_region_radius, initial_trust_region);
 		}
 		ceres::Solver::Summary summary;
-		t0 = Clock::now();
+		t0 = SteadyClock::now();
 		ceres::Solve(o, &problem, &summary);
 		const double solve = seconds_since(t0);
 

@@ -53,13 +53,13 @@ template <typename Network, typename Vertices, typename Edges>
 void solve_network(Vertices& vertices, const Edges& edges, io::G2oId root, const mrpt::containers::yaml& params,
 				   mrpt::graphslam::TResultInfoSpaLevMarq& info, Result& res)
 {
-	auto t0 = Clock::now();
+	auto t0 = SteadyClock::now();
 	Network G;
 	for (const auto& [id, v] : vertices) G.nodes[static_cast<TNodeID>(id)] = to_pose(v);
 	for (const auto& e : edges) G.insertEdge(static_cast<TNodeID>(e.from), static_cast<TNodeID>(e.to), to_pdf(e));
 	G.root = static_cast<TNodeID>(root);
 	res.setup_s = seconds_since(t0);
-	t0 = Clock::now();
+	t0 = SteadyClock::now();
 	mrpt::graphslam::optimize_graph_spa_levmarq(G, info, nullptr, params);
 	res.solve_s = seconds_since(t0);
 	for (auto& [id, v] : vertices) from_pose(G.nodes.at(static_cast<TNodeID>(id)), v);

@@ -3,21 +3,18 @@
 // reference ½ Σ rᵀΛr of problems::pose_graph_cost, so that the table compares like with like.
 #pragma once
 
+#include <swba/core/timing.h>
 #include <swba/factors/relative_pose.h>
 #include <swba/io/g2o.h>
 #include <swba/problems/pose_graph.h>
 #include <swba/problems/pose_graph_init.h>
 
-#include <chrono>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace swba::bench
 {
-using Clock = std::chrono::steady_clock;
-inline double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
 /** The benchmark's settings (command line). */
 struct Settings
 {

@@ -21,14 +21,14 @@ Result run_swba(const io::PoseGraph& input, const Settings& s, RotationError mod
 	{
 		io::PoseGraph g = input;
 		// The initialisation is timed as part of the solve (it replaces LM iterations).
-		auto t0 = Clock::now();
+		auto t0 = SteadyClock::now();
 		const auto init_summary = apps::initialize_pgo(g, o);
 		const double init_s = seconds_since(t0);
 		const double start_cost = problems::pose_graph_cost(g, model);
-		t0 = Clock::now();
+		t0 = SteadyClock::now();
 		auto pp = apps::build_pgo_problem(g, o);
 		const double setup = seconds_since(t0);
-		t0 = Clock::now();
+		t0 = SteadyClock::now();
 		const auto summary = apps::solve_pgo(pp, g, o);
 		const double solve = init_s + seconds_since(t0);
 		if (rep == 0 || solve < r.solve_s)

@@ -151,46 +151,43 @@ TEST(RunApe, DefaultGroundTruthPathFollowsMrptNaming)
 	EXPECT_EQ(swba::eval::default_ground_truth_path("x.rawlog.gz"), "x_ground_truth_robot_path.txt");
 }
 
+namespace
+{
+/** `path` with the contents `text`. */
+void write_text(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+/** read_ground_truth_for(path, steps) throws std::runtime_error naming `path` and saying `reason`. */
+void expect_ground_truth_error(const std::string& path, std::size_t steps, const std::string& reason)
+{
+	try
+	{
+		swba::eval::read_ground_truth_for(path, steps);
+		FAIL() << "no error";
+	}
+	catch (const std::runtime_error& e)
+	{
+		const std::string msg = e.what();
+		EXPECT_NE(msg.find(path), std::string::npos) << msg;
+		EXPECT_NE(msg.find(reason), std::string::npos) << msg;
+	}
+}
+}  // namespace
+
 TEST(RunGroundTruth, TooShortOrWrongColumnsAreErrorsNamingTheFile)
 {
 	const auto d = temp_dir();
 	const std::string short_gt = (d / "short_gt.txt").string();
-	{
-		std::ofstream f(short_gt);
-		f << "% x y z yaw pitch roll\n";
-		for (int i = 0; i < 10; i++) f << i << " 0 0 0 0 0\n";
-	}
+	std::string rows = "% x y z yaw pitch roll\n";
+	for (int i = 0; i < 10; i++) rows += std::to_string(i) + " 0 0 0 0 0\n";
+	write_text(short_gt, rows);
 	EXPECT_EQ(swba::eval::read_ground_truth_for(short_gt, 9).size(), 10u);  // exactly steps + 1 rows
-	try
-	{
-		swba::eval::read_ground_truth_for(short_gt, 10);
-		FAIL() << "no error";
-	}
-	catch (const std::runtime_error& e)
-	{
-		const std::string msg = e.what();
-		EXPECT_NE(msg.find(short_gt), std::string::npos) << msg;
-		EXPECT_NE(msg.find("10 rows, but the rawlog has 10 steps and needs 11 rows"), std::string::npos) << msg;
-	}
+	expect_ground_truth_error(short_gt, 10, "10 rows, but the rawlog has 10 steps and needs 11 rows");
 	const std::string five = (d / "five_columns.txt").string();
-	{
-		std::ofstream f(five);
-		f << "0 0 0 0 0 0\n1 0 0 0 0\n";
-	}
-	try
-	{
-		swba::eval::read_ground_truth_for(five, 1);
-		FAIL() << "no error";
-	}
-	catch (const std::runtime_error& e)
-	{
-		const std::string msg = e.what();
-		EXPECT_NE(msg.find(five), std::string::npos) << msg;
-		EXPECT_NE(msg.find("6"), std::string::npos) << msg;
-	}
+	write_text(five, "0 0 0 0 0 0\n1 0 0 0 0\n");
+	expect_ground_truth_error(five, 1, "6");
 }
 
-TEST(RunSummaryJson, ShapeOfTheIssueExample)
+TEST(RunSummaryJson, ShapeOfTheDocumentedExample)
 {
 	const RunReport rep = sample_report();
 	const Json j = Json::parse(swba::apps::format_summary_json(rep));

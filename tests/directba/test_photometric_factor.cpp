@@ -38,15 +38,9 @@ std::shared_ptr<IntensityImage> smooth_image(int w, int h)
 	return img;
 }
 
-PatchCameraIntrinsics course_K()
-{
-	PatchCameraIntrinsics K;
-	K.fx = 277.34;
-	K.fy = 291.402;
-	K.cx = 312.234;
-	K.cy = 239.777;
-	return K;
-}
+/** The shipped data set's intrinsics, io::directba_dataset_intrinsics() (swba_io is not linked into this
+ * test's ASan build, tests/directba/tests.cmake). */
+PatchCameraIntrinsics shipped_dataset_K() { return {277.34, 291.402, 312.234, 239.777}; }
 
 PatchValues some_patch()
 {
@@ -103,7 +97,7 @@ TEST(DirectBABilinear, RefusesFootprintsOutsideTheImage)
 TEST(DirectBAFactor, JacobiansMatchNumericAwayFromPixelBorders)
 {
 	const auto img = smooth_image(640, 480);
-	const auto K = course_K();
+	const auto K = shipped_dataset_K();
 	const PhotometricPatchFactor f(some_patch(), img, K);
 	const auto se3 = SE3Manifold::instance();
 	const auto r3 = euclidean_manifold(3);
@@ -156,7 +150,7 @@ TEST(DirectBAFactor, ResidualIsHostPatchMinusBilinearSamplesInSeedOrder)
 	ASSERT_TRUE(f.evaluate(x, r, nullptr));
 	for (int k = 0; k < 16; k++)
 	{
-		const int dx = k / 4 - 2, dy = k % 4 - 2;  // dx outer, dy inner (the seed's loop order)
+		const int dx = k / 4 - 2, dy = k % 4 - 2;  // dx outer, dy inner (directBA.cpp's loop order)
 		BilinearSample s;
 		ASSERT_TRUE(sample_bilinear(*img, 32.5 + dx, 18.75 + dy, s));
 		EXPECT_NEAR(r[k], patch[k] - s.value, 1e-9) << "k=" << k;
@@ -208,7 +202,7 @@ TEST(DirectBAFactor, BorderRuleMatchesBruteForceAndNeverReadsOutside)
 TEST(DirectBAFactor, PointBehindOrOnTheCameraPlaneIsDropped)
 {
 	const auto img = smooth_image(640, 480);
-	const PhotometricPatchFactor f(some_patch(), img, course_K());
+	const PhotometricPatchFactor f(some_patch(), img, shipped_dataset_K());
 	double pose[12];
 	SE3Manifold::from_pose(mrpt::poses::CPose3D(), pose);
 	double r[16];
@@ -230,7 +224,7 @@ TEST(DirectBAFactor, PoseIsWorldFromCamera)
 {
 	// A camera at (1, 0, 0) looking along +z sees the world point (1, 0, 5) at the principal point.
 	const auto img = smooth_image(640, 480);
-	const auto K = course_K();
+	const auto K = shipped_dataset_K();
 	const PhotometricPatchFactor f(some_patch(), img, K);
 	double pose[12];
 	SE3Manifold::from_pose(mrpt::poses::CPose3D(1, 0, 0, 0, 0, 0), pose);
@@ -243,10 +237,10 @@ TEST(DirectBAFactor, PoseIsWorldFromCamera)
 
 TEST(DirectBAFactor, RejectsInvalidConstruction)
 {
-	EXPECT_THROW(PhotometricPatchFactor(some_patch(), nullptr, course_K()), std::invalid_argument);
-	EXPECT_THROW(PhotometricPatchFactor(some_patch(), std::make_shared<IntensityImage>(), course_K()),
+	EXPECT_THROW(PhotometricPatchFactor(some_patch(), nullptr, shipped_dataset_K()), std::invalid_argument);
+	EXPECT_THROW(PhotometricPatchFactor(some_patch(), std::make_shared<IntensityImage>(), shipped_dataset_K()),
 				 std::invalid_argument);
 	auto bad = std::make_shared<IntensityImage>(10, 10);
 	bad->pixels.resize(50);
-	EXPECT_THROW(PhotometricPatchFactor(some_patch(), bad, course_K()), std::invalid_argument);
+	EXPECT_THROW(PhotometricPatchFactor(some_patch(), bad, shipped_dataset_K()), std::invalid_argument);
 }

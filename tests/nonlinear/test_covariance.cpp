@@ -5,7 +5,7 @@
 #include "random_draws.h"
 #include <swba/core/lie.h>
 #include <swba/nonlinear/covariance.h>
-#include <swba/nonlinear/linearization.h>
+#include "support/dense_linearization.h"
 
 #include <Eigen/Dense>
 #include <random>

@@ -2,7 +2,7 @@
 // of the states still in the window, and their information, must equal the batch solution's. Runs the
 // smoother's own machinery (update(), marginalize_oldest(), the stored MarginalPrior and its factor).
 #include <gtest/gtest.h>
-#include <swba/nonlinear/linearization.h>
+#include "support/dense_linearization.h"
 #include <swba/smoother/fixed_lag_smoother.h>
 
 #include "linear_gaussian.h"

@@ -5,7 +5,7 @@
 // conditional mean) must equal the batch solution over the data so far, and at the end the covariance
 // over the window and every landmark must equal the batch's marginal.
 #include <gtest/gtest.h>
-#include <swba/nonlinear/linearization.h>
+#include "support/dense_linearization.h"
 #include <swba/smoother/fixed_lag_smoother.h>
 
 #include "linear_gaussian.h"

@@ -2,7 +2,7 @@
 // information (the window's factor graph linearised at its values, FEJ as the solver sees it), for
 // each gauge, on the first steps of kf-slam_6D_demo.
 #include <gtest/gtest.h>
-#include <swba/nonlinear/linearization.h>
+#include "support/dense_linearization.h"
 
 #include "window_test_utils.h"
 

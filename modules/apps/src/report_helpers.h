@@ -1,5 +1,5 @@
 /** \file report_helpers.h
- * Private helpers shared by the applications' option checks and reports (monoba, directba, run, nees). */
+ * Private helpers shared by the applications' reports (monoba, directba, run, nees). */
 #pragma once
 
 #include <mrpt/poses/CPose3D.h>
@@ -12,13 +12,6 @@
 
 namespace swba::apps::detail
 {
-/** Stores `msg` in `why` (when given) and returns false: the failure branch of an is_valid(why). */
-inline bool fail(std::string* why, const std::string& msg)
-{
-	if (why) *why = msg;
-	return false;
-}
-
 /** Rotation angle of R_aᵀ R_b in degrees (acos of the clamped trace: the figures the reports print). */
 inline double rotation_angle_deg(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b)
 {

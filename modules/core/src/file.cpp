@@ -86,4 +86,9 @@ void write_file_atomically(const std::string& path, const std::function<void(std
 	if (!f) failed(errno);
 	if (!in_place && std::rename(tmp.c_str(), path.c_str()) != 0) failed(errno);
 }
+
+void write_text_file_atomically(const std::string& path, const std::string& text)
+{
+	write_file_atomically(path, [&](std::ostream& f) { f << text; });
+}
 }  // namespace swba

@@ -57,20 +57,6 @@ std::shared_ptr<const LossFunction> make_loss(const std::string& name, double a)
 	return make_loss(parse_enum<RobustLoss>(name, "loss"), a);
 }
 
-bool loss_is_valid(RobustLoss kind, double a, std::string* why)
-{
-	try
-	{
-		make_loss(kind, a);
-		return true;
-	}
-	catch (const std::invalid_argument& e)
-	{
-		if (why) *why = e.what();
-		return false;
-	}
-}
-
 double apply_loss(const LossFunction& loss, int m, double* r, int num_blocks, const int* jac_cols,
 				  double* const* jacobians)
 {

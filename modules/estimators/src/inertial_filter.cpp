@@ -2,6 +2,7 @@
 
 #include <swba/core/lie.h>
 #include <swba/core/manifold.h>
+#include <swba/core/validation.h>
 #include <swba/factors/between_pose.h>
 #include <swba/factors/pose_prior.h>
 
@@ -56,16 +57,11 @@ InertialInput inertial_input(const io::ObservationRawlog& log)
 	return in;
 }
 
-bool InertialPriorOptions::is_valid(std::string* why) const
+void InertialPriorOptions::validate() const
 {
 	for (double s : {velocity_sigma, velocity_sigma_unknown, accel_bias_sigma, gyro_bias_sigma, odometry_pose_sigma,
 					 odometry_tilt_sigma})
-		if (!(std::isfinite(s) && s > 0))
-		{
-			if (why) *why = "initial-state sigmas must be positive";
-			return false;
-		}
-	return true;
+		if (!(std::isfinite(s) && s > 0)) throw std::invalid_argument("initial-state sigmas must be positive");
 }
 
 InertialInitialState initial_inertial_state(const InertialInput& in, const InertialPriorOptions& o)
@@ -114,8 +110,7 @@ InertialInitialState initial_inertial_state(const InertialInput& in, const Inert
 ErrorStateKalmanFilter::ErrorStateKalmanFilter(const ImuNoise& noise, const InertialInitialState& init)
 	: noise_(noise), t_(init.t), x_(init.x), b_(init.bias), P_(init.P)
 {
-	std::string why;
-	if (!noise_.is_valid(&why)) throw std::invalid_argument("ErrorStateKalmanFilter: " + why);
+	validate_with_prefix(noise_, "ErrorStateKalmanFilter: ");
 }
 
 void ErrorStateKalmanFilter::propagate(const ImuSample& s0, const ImuSample& s1)

@@ -30,8 +30,8 @@ SolverOptions InertialWindowOptions::default_solver()
 void InertialWindowOptions::validate() const
 {
 	if (window_size == 1 || window_size < 0) throw std::invalid_argument("window_size must be 0 or >= 2");
-	std::string why;
-	if (!measurements.noise.is_valid(&why) || !measurements.prior.is_valid(&why)) throw std::invalid_argument(why);
+	measurements.noise.validate();
+	measurements.prior.validate();
 	if (!(reintegrate_accel > 0) || !(reintegrate_gyro > 0))
 		throw std::invalid_argument("re-integration thresholds must be positive");
 }

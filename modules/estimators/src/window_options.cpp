@@ -2,6 +2,7 @@
 #include <swba/estimators/sliding_window.h>
 
 #include <swba/core/chi2.h>
+#include <swba/core/validation.h>
 
 #include <cmath>
 #include <stdexcept>
@@ -52,8 +53,7 @@ void SlidingWindowOptions::validate() const
 		throw std::invalid_argument("the map landmark policy needs the fixed or the prior gauge: its map is in the frame "
 									"of the first pose, which a free gauge does not hold");
 	sensor.validate();
-	std::string why;
-	if (!solver.is_valid(&why)) throw std::invalid_argument("solver options: " + why);
+	validate_with_prefix(solver, "solver options: ");
 }
 
 int SlidingWindowOptions::relinearized_window() const

@@ -11,6 +11,13 @@ std::string format_significant(double v, int digits)
 	return buf;
 }
 
+std::string format_printf(const char* format, double v)
+{
+	char buf[64];
+	std::snprintf(buf, sizeof(buf), format, v);
+	return buf;
+}
+
 std::string csv_field(const std::string& s)
 {
 	if (s.find_first_of(",\"\n") == std::string::npos) return s;

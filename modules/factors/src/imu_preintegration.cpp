@@ -1,6 +1,7 @@
 #include <swba/factors/imu_preintegration.h>
 
 #include <swba/core/lie.h>
+#include <swba/core/validation.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -9,17 +10,12 @@
 
 namespace swba
 {
-bool ImuNoise::is_valid(std::string* why) const
+void ImuNoise::validate() const
 {
-	auto fail = [why](const std::string& m) {
-		if (why) *why = m;
-		return false;
-	};
-	const double d[] = {accel_noise_density, gyro_noise_density, accel_random_walk, gyro_random_walk};
-	for (double x : d)
-		if (!(std::isfinite(x) && x > 0)) return fail("IMU noise densities and random walks must be positive");
-	if (!gravity.allFinite()) return fail("gravity must be finite");
-	return true;
+	for (double x : {accel_noise_density, gyro_noise_density, accel_random_walk, gyro_random_walk})
+		if (!(std::isfinite(x) && x > 0))
+			throw std::invalid_argument("IMU noise densities and random walks must be positive");
+	if (!gravity.allFinite()) throw std::invalid_argument("gravity must be finite");
 }
 
 IniKeys<ImuNoise> ImuNoise::ini_keys(const std::string& section)
@@ -119,8 +115,7 @@ Eigen::Matrix<double, 12, 12> imu_step_noise(const ImuNoise& n, double dt)
 ImuPreintegration::ImuPreintegration(const ImuNoise& noise, const Vector6d& linearization_bias)
 	: noise_(noise), bias_lin_(linearization_bias)
 {
-	std::string why;
-	if (!noise_.is_valid(&why)) throw std::invalid_argument("ImuPreintegration: " + why);
+	validate_with_prefix(noise_, "ImuPreintegration: ");
 	reset_integration();
 }
 

@@ -99,15 +99,7 @@ std::uint64_t image_memory_budget(std::uint64_t file_bytes)
 	return kBase + kPerByte * file_bytes;
 }
 
-PinholeIntrinsics directba_dataset_intrinsics()
-{
-	PinholeIntrinsics K;
-	K.fx = 277.34;
-	K.fy = 291.402;
-	K.cx = 312.234;
-	K.cy = 239.777;
-	return K;
-}
+PinholeIntrinsics directba_dataset_intrinsics() { return {277.34, 291.402, 312.234, 239.777}; }
 
 IntensityImage load_intensity_image(const std::string& path)
 {

@@ -58,15 +58,11 @@ mrpt::Clock::time_point time_at(double origin, double t)
 }
 }  // namespace
 
-bool SensorRoles::is_valid(std::string* why) const
+void SensorRoles::validate() const
 {
 	for (const auto& l : pose_prior)
 		if (contains(odometry, l))
-		{
-			if (why) *why = "sensor label '" + l + "' is both a pose prior and an odometry";
-			return false;
-		}
-	return true;
+			throw std::invalid_argument("sensor label '" + l + "' is both a pose prior and an odometry");
 }
 
 IniKeys<SensorRoles> SensorRoles::ini_keys(const std::string& section)

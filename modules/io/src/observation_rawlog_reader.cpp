@@ -164,8 +164,14 @@ void ObservationReader::convert()
 
 ObservationRawlog ObservationReader::run()
 {
-	std::string why;
-	if (!roles_.is_valid(&why)) fail(why);
+	try
+	{
+		roles_.validate();
+	}
+	catch (const std::invalid_argument& e)
+	{
+		fail(e.what());
+	}
 	check_input_file(out_.path, "rawlog");
 	mrpt::io::CFileGZInputStream f;
 	std::string error;

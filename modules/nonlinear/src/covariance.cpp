@@ -1,12 +1,13 @@
 // Marginal covariances from the solver's factorisation: the undamped Schur system factorised once,
 // then one solve per tangent coordinate of a requested variable (covariance.h).
+#include <swba/core/timing.h>
+#include <swba/core/validation.h>
 #include <swba/nonlinear/covariance.h>
 
 #include "covariance_recovery.h"
 #include "solver_context.h"
 
 #include <Eigen/Dense>
-#include <chrono>
 #include <stdexcept>
 
 namespace swba
@@ -15,7 +16,6 @@ namespace detail
 {
 namespace
 {
-using Clock = std::chrono::steady_clock;
 
 /** Where a variable sits in the solver's [kept; eliminated] vector. */
 struct Slot
@@ -199,24 +199,23 @@ class Recovery
 
 CovarianceResult recover_covariance(SolverContext& context, const CovarianceRequest& request)
 {
-	const auto t0 = Clock::now();
+	const auto t0 = SteadyClock::now();
 	CovarianceResult out = Recovery(context, request).run();
-	out.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+	out.seconds = seconds_since(t0);
 	return out;
 }
 }  // namespace detail
 
 CovarianceResult marginal_covariance(Problem& problem, const CovarianceRequest& request, const SolverOptions& options)
 {
-	std::string why;
-	if (!options.is_valid(&why)) throw std::invalid_argument("SolverOptions: " + why);
-	const auto t0 = std::chrono::steady_clock::now();
+	validate_with_prefix(options, "SolverOptions: ");
+	const auto t0 = SteadyClock::now();
 	detail::SolverContext context(problem, options);
 	int dropped = 0;
 	context.evaluator().linearize(&dropped);
 	context.equations().assemble();
 	CovarianceResult out = detail::recover_covariance(context, request);
-	out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	out.seconds = seconds_since(t0);
 	return out;
 }
 }  // namespace swba

@@ -1,9 +1,10 @@
 // The Levenberg-Marquardt loop (Ceres's TrustRegionMinimizer with its LevenbergMarquardtStrategy):
 // evaluation, normal equations and the damped solve are the SolverContext's parts.
+#include <swba/core/timing.h>
+#include <swba/core/validation.h>
 #include <swba/nonlinear/solver.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <iostream>
 #include <stdexcept>
@@ -15,12 +16,6 @@ namespace swba
 {
 namespace
 {
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0)
-{
-	return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
 /** A step is accepted when its gain ratio (actual / predicted decrease) exceeds this. */
 constexpr double kMinRelativeDecrease = 1e-3;
 /** Consecutive failed factorisations after which the solve gives up. */
@@ -60,7 +55,7 @@ class LevenbergMarquardt
 {
    public:
 	LevenbergMarquardt(detail::SolverContext& context, const SolverOptions& options, Summary& summary,
-					   Clock::time_point t_start)
+					   SteadyClock::time_point t_start)
 		: ctx_(context), options_(options), summary_(summary), t_start_(t_start), strategy_(options)
 	{
 	}
@@ -74,7 +69,7 @@ class LevenbergMarquardt
 	void accept_step(double new_cost, IterationSummary& it);
 	void reject_step(bool solved);
 	void check_gradient_and_cost();
-	void record(IterationSummary& it, Clock::time_point t_iter, bool accepted);
+	void record(IterationSummary& it, SteadyClock::time_point t_iter, bool accepted);
 	double evaluate_with_jacobians();
 	void assemble();
 	void finish(TerminationType t, const char* message)
@@ -86,7 +81,7 @@ class LevenbergMarquardt
 	detail::SolverContext& ctx_;
 	const SolverOptions& options_;
 	Summary& summary_;
-	Clock::time_point t_start_;
+	SteadyClock::time_point t_start_;
 	LevenbergMarquardtStrategy strategy_;
 	double cost_ = 0;
 	int dropped_ = 0;
@@ -119,7 +114,7 @@ void LevenbergMarquardt::run()
 /** Residuals and Jacobians at the current values (updates dropped_); returns the cost. */
 double LevenbergMarquardt::evaluate_with_jacobians()
 {
-	const auto t0 = Clock::now();
+	const auto t0 = SteadyClock::now();
 	const double cost = ctx_.evaluator().linearize(&dropped_);
 	summary_.time_evaluation_s += seconds_since(t0);
 	return cost;
@@ -128,7 +123,7 @@ double LevenbergMarquardt::evaluate_with_jacobians()
 /** H and g from the last Jacobian evaluation. */
 void LevenbergMarquardt::assemble()
 {
-	const auto t0 = Clock::now();
+	const auto t0 = SteadyClock::now();
 	ctx_.equations().assemble();
 	summary_.time_linear_solver_s += seconds_since(t0);
 }
@@ -177,11 +172,11 @@ void LevenbergMarquardt::check_gradient_and_cost()
  * tolerance (the loop ends without counting or recording that iteration). */
 bool LevenbergMarquardt::iterate()
 {
-	const auto t_iter = Clock::now();
+	const auto t_iter = SteadyClock::now();
 	summary_.iterations++;
 	IterationSummary it;
 	it.iteration = summary_.iterations;
-	const auto t0 = Clock::now();
+	const auto t0 = SteadyClock::now();
 	const bool solved = ctx_.eliminator().solve_damped(strategy_.lambda(), options_.min_lm_diagonal,
 													   options_.max_lm_diagonal, delta_);
 	summary_.time_linear_solver_s += seconds_since(t0);
@@ -211,7 +206,7 @@ bool LevenbergMarquardt::try_step(IterationSummary& it)
 	auto& program = ctx_.program();
 	program.save_values();
 	program.apply_step(delta_);
-	const auto t0 = Clock::now();
+	const auto t0 = SteadyClock::now();
 	const detail::TrialEvaluation trial = ctx_.evaluator().evaluate_trial();
 	summary_.time_evaluation_s += seconds_since(t0);
 	it.outcome = judge_step(trial, it);
@@ -271,7 +266,7 @@ void LevenbergMarquardt::reject_step(bool solved)
 		finish(TerminationType::Failure, "linear system not positive definite after 20 attempts");
 }
 
-void LevenbergMarquardt::record(IterationSummary& it, Clock::time_point t_iter, bool accepted)
+void LevenbergMarquardt::record(IterationSummary& it, SteadyClock::time_point t_iter, bool accepted)
 {
 	it.cost = cost_;
 	it.gradient_max_norm = ctx_.equations().gradient_max_norm();
@@ -296,9 +291,8 @@ Summary solve(Problem& problem, const SolverOptions& options)
 Summary solve(Problem& problem, const SolverOptions& options, const CovarianceRequest& request,
 			  CovarianceResult* covariance)
 {
-	std::string why;
-	if (!options.is_valid(&why)) throw std::invalid_argument("SolverOptions: " + why);
-	const auto t_start = Clock::now();
+	validate_with_prefix(options, "SolverOptions: ");
+	const auto t_start = SteadyClock::now();
 	Summary summary;
 	detail::SolverContext context(problem, options);
 	summary.linear_solver_used = context.linear_solver_used();

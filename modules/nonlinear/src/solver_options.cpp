@@ -11,24 +11,21 @@ LinearSolverType parse_linear_solver(const std::string& name)
 
 std::string to_string(LinearSolverType t) { return enum_name(t); }
 
-bool SolverOptions::is_valid(std::string* why) const
+void SolverOptions::validate() const
 {
-	auto fail = [&](const char* msg) {
-		if (why) *why = msg;
-		return false;
+	const auto check = [](bool ok, const char* msg) {
+		if (!ok) throw std::invalid_argument(msg);
 	};
-	if (max_iterations < 0) return fail("max_iterations must be >= 0");
-	if (!(function_tolerance >= 0)) return fail("function_tolerance must be >= 0");
-	if (!(gradient_tolerance >= 0)) return fail("gradient_tolerance must be >= 0");
-	if (!(parameter_tolerance >= 0)) return fail("parameter_tolerance must be >= 0");
-	if (!(initial_trust_region_radius > 0)) return fail("initial_trust_region_radius must be > 0");
-	if (!(max_trust_region_radius >= initial_trust_region_radius))
-		return fail("max_trust_region_radius must be >= initial_trust_region_radius");
-	if (!(min_lm_diagonal > 0) || !(max_lm_diagonal >= min_lm_diagonal))
-		return fail("need 0 < min_lm_diagonal <= max_lm_diagonal");
-	if (num_threads < 1) return fail("num_threads must be >= 1");
-	if (dense_max_dim < 0) return fail("dense_max_dim must be >= 0");
-	return true;
+	check(max_iterations >= 0, "max_iterations must be >= 0");
+	check(function_tolerance >= 0, "function_tolerance must be >= 0");
+	check(gradient_tolerance >= 0, "gradient_tolerance must be >= 0");
+	check(parameter_tolerance >= 0, "parameter_tolerance must be >= 0");
+	check(initial_trust_region_radius > 0, "initial_trust_region_radius must be > 0");
+	check(max_trust_region_radius >= initial_trust_region_radius,
+		  "max_trust_region_radius must be >= initial_trust_region_radius");
+	check(min_lm_diagonal > 0 && max_lm_diagonal >= min_lm_diagonal, "need 0 < min_lm_diagonal <= max_lm_diagonal");
+	check(num_threads >= 1, "num_threads must be >= 1");
+	check(dense_max_dim >= 0, "dense_max_dim must be >= 0");
 }
 
 IniKeys<SolverOptions> SolverOptions::ini_keys(const std::string& section)

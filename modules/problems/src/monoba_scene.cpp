@@ -1,5 +1,6 @@
 // The synthetic scene of monocular bundle adjustment (see monoba.h and doc/monoba.md).
 #include <swba/core/manifold.h>
+#include <swba/core/validation.h>
 #include <swba/problems/monoba.h>
 
 #include <cmath>
@@ -10,12 +11,6 @@ namespace swba::problems
 {
 namespace
 {
-bool fail(std::string* why, const std::string& msg)
-{
-	if (why) *why = msg;
-	return false;
-}
-
 Eigen::Vector3d translation(const mrpt::poses::CPose3D& p) { return Eigen::Vector3d(p.x(), p.y(), p.z()); }
 
 /** The scene's random streams: points, observations and initial depths from one, pose noise from a
@@ -114,24 +109,24 @@ void perturb_initial_poses(const MonoBASceneOptions& o, MonoBAScene& scene, Scen
 }
 }  // namespace
 
-bool MonoBASceneOptions::is_valid(std::string* why) const
+void MonoBASceneOptions::validate() const
 {
-	if (cameras < 2) return fail(why, "the number of cameras must be ≥ 2 (got " + std::to_string(cameras) + ")");
-	if (points < 1) return fail(why, "the number of points must be ≥ 1 (got " + std::to_string(points) + ")");
-	if (!(arc_radius_m > 0) || !std::isfinite(arc_radius_m)) return fail(why, "the arc radius must be > 0");
-	if (!(noise >= 0) || !std::isfinite(noise)) return fail(why, "the observation noise must be a number ≥ 0");
-	if (!(depth_noise_m >= 0) || !std::isfinite(depth_noise_m))
-		return fail(why, "the depth noise must be a number ≥ 0");
-	if (!(pose_noise_m >= 0) || !std::isfinite(pose_noise_m) || !(pose_noise_rad >= 0) ||
-		!std::isfinite(pose_noise_rad))
-		return fail(why, "the pose noise must be a number ≥ 0");
-	if (pose_noise_from < 0) return fail(why, "pose_noise_from must be ≥ 0");
-	return true;
+	const auto check = [](bool ok, const std::string& msg) {
+		if (!ok) throw std::invalid_argument(msg);
+	};
+	check(cameras >= 2, "the number of cameras must be ≥ 2 (got " + std::to_string(cameras) + ")");
+	check(points >= 1, "the number of points must be ≥ 1 (got " + std::to_string(points) + ")");
+	check(arc_radius_m > 0 && std::isfinite(arc_radius_m), "the arc radius must be > 0");
+	check(noise >= 0 && std::isfinite(noise), "the observation noise must be a number ≥ 0");
+	check(depth_noise_m >= 0 && std::isfinite(depth_noise_m), "the depth noise must be a number ≥ 0");
+	check(pose_noise_m >= 0 && std::isfinite(pose_noise_m) && pose_noise_rad >= 0 && std::isfinite(pose_noise_rad),
+		  "the pose noise must be a number ≥ 0");
+	check(pose_noise_from >= 0, "pose_noise_from must be ≥ 0");
 }
 
 MonoBAScene make_monoba_scene(const MonoBASceneOptions& o)
 {
-	if (std::string why; !o.is_valid(&why)) throw std::invalid_argument("monoba scene: " + why);
+	validate_with_prefix(o, "monoba scene: ");
 	MonoBAScene scene;
 	scene.options = o;
 	scene.true_poses = arc_poses(o);

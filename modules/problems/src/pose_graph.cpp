@@ -1,9 +1,9 @@
 // g2o pose graph → swba::Problem, back, and the reference cost.
+#include <swba/core/lie.h>
 #include <swba/core/manifold.h>
 #include <swba/factors/relative_pose.h>
 #include <swba/problems/pose_graph.h>
 
-#include "angle_wrap.h"
 #include "pose_graph_residual.h"
 
 #include <cmath>
@@ -13,7 +13,6 @@ namespace swba::problems
 {
 namespace
 {
-using detail::wrap_pm_pi;
 using io::G2oId;
 using io::PoseGraph;
 
@@ -113,7 +112,7 @@ void update_pose_graph(PoseGraph& g, const PoseGraphProblem& pp)
 		const double* p = pp.problem.value(pp.variable_of.at(id));
 		v.x = p[0];
 		v.y = p[1];
-		v.theta = wrap_pm_pi(p[2]);
+		v.theta = wrap_to_pi(p[2]);
 	}
 }
 
@@ -136,7 +135,7 @@ double pose_graph_cost(const PoseGraph& g, RotationError rotation_error)
 		const double c = std::cos(a.theta), s = std::sin(a.theta);
 		const double dx = b.x - a.x, dy = b.y - a.y;
 		const Eigen::Vector3d r(c * dx + s * dy - e.x, -s * dx + c * dy - e.y,
-								wrap_pm_pi(b.theta - a.theta - e.theta));
+								wrap_to_pi(b.theta - a.theta - e.theta));
 		cost += 0.5 * r.dot(e.information * r);
 	}
 	return cost;

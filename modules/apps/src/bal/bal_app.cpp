@@ -25,14 +25,15 @@ SolverOptions BalAppOptions::default_solver_options()
 	return o;
 }
 
-bool BalAppOptions::is_valid(std::string* why) const
+void BalAppOptions::validate() const
 {
-	return solver.is_valid(why) && loss_is_valid(loss, loss_scale, why);
+	solver.validate();
+	make_loss(loss, loss_scale);  // throws std::invalid_argument when the loss cannot be made
 }
 
 BalAppResult run_bal_app(const BalAppOptions& options, std::ostream& out, std::ostream& log)
 {
-	if (std::string why; !options.is_valid(&why)) throw std::invalid_argument(why);
+	options.validate();
 	const auto loss = make_loss(options.loss, options.loss_scale);
 
 	io::BalProblem bal = io::read_bal(options.problem_path);

@@ -3,6 +3,7 @@
 #include <swba/apps/directba.h>
 #include "../report_helpers.h"
 #include <swba/core/manifold.h>
+#include <swba/core/validation.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -109,17 +110,13 @@ DirectBAMotion motion(const std::vector<mrpt::poses::CPose3D>& initial_poses,
 }
 }  // namespace
 
-bool DirectBAOptions::is_valid(std::string* why) const
+void DirectBAOptions::validate() const
 {
-	auto fail = [&](const std::string& m) {
-		if (why) *why = m;
-		return false;
-	};
-	if (!(sigma > 0) || !std::isfinite(sigma)) return fail("sigma must be a positive number");
-	if (!std::isfinite(huber_delta)) return fail("huber delta must be finite");
-	if (fixed_cameras < 0) return fail("fixed_cameras must be ≥ 0");
-	if (factor.border < 0) return fail("border must be ≥ 0");
-	return solver.is_valid(why);
+	if (!(sigma > 0) || !std::isfinite(sigma)) throw std::invalid_argument("sigma must be a positive number");
+	if (!std::isfinite(huber_delta)) throw std::invalid_argument("huber delta must be finite");
+	if (fixed_cameras < 0) throw std::invalid_argument("fixed_cameras must be ≥ 0");
+	if (factor.border < 0) throw std::invalid_argument("border must be ≥ 0");
+	solver.validate();
 }
 
 DirectBAStats direct_ba_stats(const io::DirectBADataset& data, const std::vector<mrpt::poses::CPose3D>& poses,
@@ -168,8 +165,7 @@ DirectBAStats direct_ba_stats(const io::DirectBADataset& data, const std::vector
 
 DirectBAResult run_direct_ba(const io::DirectBADataset& data, const DirectBAOptions& options)
 {
-	std::string why;
-	if (!options.is_valid(&why)) throw std::invalid_argument("directba: " + why);
+	validate_with_prefix(options, "directba: ");
 	check_data(data);
 	const int n = static_cast<int>(data.world_from_camera.size());
 	if (options.fixed_cameras > n)

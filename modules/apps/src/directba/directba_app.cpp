@@ -86,21 +86,16 @@ DirectBAAppResult run_on_dataset(const DirectBAAppOptions& options, std::ostream
 }
 }  // namespace
 
-bool DirectBAAppOptions::is_valid(std::string* why) const
+void DirectBAAppOptions::validate() const
 {
-	const auto fail = [&](const char* msg) {
-		if (why) *why = msg;
-		return false;
-	};
-	if (!adjustment.is_valid(why)) return false;
-	if (synthetic && !dataset_dir.empty()) return fail("the synthetic check takes no data set directory");
-	if (!synthetic && dataset_dir.empty()) return fail("no data set directory");
-	return true;
+	adjustment.validate();
+	if (synthetic && !dataset_dir.empty()) throw std::invalid_argument("the synthetic check takes no data set directory");
+	if (!synthetic && dataset_dir.empty()) throw std::invalid_argument("no data set directory");
 }
 
 DirectBAAppResult run_directba_app(const DirectBAAppOptions& options, std::ostream& out, std::ostream& log)
 {
-	if (std::string why; !options.is_valid(&why)) throw std::invalid_argument(why);
+	options.validate();
 	return options.synthetic ? run_synthetic_check(options, out) : run_on_dataset(options, out, log);
 }
 }  // namespace swba::apps

@@ -4,6 +4,7 @@
 #include "../report_helpers.h"
 
 #include <swba/core/manifold.h>
+#include <swba/core/validation.h>
 #include <swba/eval/alignment.h>
 #include <swba/factors/monocular_inverse_depth.h>
 #include <swba/factors/pose_prior.h>
@@ -18,7 +19,6 @@ namespace swba::apps
 {
 using problems::MonoBAScene;
 
-using detail::fail;
 using detail::rotation_angle_deg;
 
 namespace
@@ -137,18 +137,19 @@ void print_errors(std::ostream& os, const MonoBAErrors& e)
 }
 }  // namespace
 
-bool MonoBAOptions::is_valid(std::string* why) const
+void MonoBAOptions::validate() const
 {
 	if (gauge != GaugeMode::Free && anchors < 1)
-		return fail(why, "the number of anchor poses (--fix) must be ≥ 1 with the " + to_string(gauge) + " gauge");
+		throw std::invalid_argument("the number of anchor poses (--fix) must be ≥ 1 with the " + to_string(gauge) +
+									" gauge");
 	if (!(prior_weight >= 0) || !std::isfinite(prior_weight))
-		return fail(why, "the prior weight must be a finite number ≥ 0");
-	return solver.is_valid(why);
+		throw std::invalid_argument("the prior weight must be a finite number ≥ 0");
+	solver.validate();
 }
 
 MonoBAProblem build_monoba_problem(const MonoBAScene& scene, const MonoBAOptions& options)
 {
-	if (std::string why; !options.is_valid(&why)) throw std::invalid_argument("monoba: " + why);
+	validate_with_prefix(options, "monoba: ");
 	const int N = static_cast<int>(scene.initial_poses.size());
 	if (options.gauge != GaugeMode::Free && options.anchors > N)
 		throw std::invalid_argument("monoba: " + std::to_string(options.anchors) + " anchor poses requested but the scene has " +

@@ -16,14 +16,16 @@ MonoBASweepOptions MonoBAAppOptions::sweep_options() const
 	return sw;
 }
 
-bool MonoBAAppOptions::is_valid(std::string* why) const
+void MonoBAAppOptions::validate() const
 {
-	return scene.is_valid(why) && adjustment.is_valid(why) && sweep_options().is_valid(why);
+	scene.validate();
+	adjustment.validate();
+	sweep_options().validate();
 }
 
 std::string run_monoba_app(const MonoBAAppOptions& options, std::ostream& out, std::ostream& log)
 {
-	if (std::string why; !options.is_valid(&why)) throw std::invalid_argument(why);
+	options.validate();
 	std::string text;
 	if (options.sweep)
 	{
@@ -45,7 +47,7 @@ std::string run_monoba_app(const MonoBAAppOptions& options, std::ostream& out, s
 	out << text;
 	if (!options.out_path.empty())
 	{
-		write_file_atomically(options.out_path, [&](std::ostream& f) { f << text; });
+		write_text_file_atomically(options.out_path, text);
 		out.flush();
 		log << "Wrote " << options.out_path << "\n";
 	}

@@ -3,6 +3,8 @@
 #include <swba/apps/monoba.h>
 #include "../report_helpers.h"
 
+#include <swba/core/validation.h>
+
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -10,7 +12,6 @@
 
 namespace swba::apps
 {
-using detail::fail;
 
 MonoBASweepOptions::MonoBASweepOptions()
 {
@@ -18,20 +19,19 @@ MonoBASweepOptions::MonoBASweepOptions()
 	for (int k = 0; k <= 10; k++) weights.push_back(std::pow(10.0, k));
 }
 
-bool MonoBASweepOptions::is_valid(std::string* why) const
+void MonoBASweepOptions::validate() const
 {
-	if (weights.empty()) return fail(why, "no prior weights to sweep");
+	if (weights.empty()) throw std::invalid_argument("no prior weights to sweep");
 	for (double w : weights)
-		if (!(w >= 0) || !std::isfinite(w)) return fail(why, "prior weights must be finite and ≥ 0");
-	if (seeds < 1) return fail(why, "the number of seeds must be ≥ 1");
-	if (repetitions < 1) return fail(why, "the number of repetitions must be ≥ 1");
-	return true;
+		if (!(w >= 0) || !std::isfinite(w)) throw std::invalid_argument("prior weights must be finite and ≥ 0");
+	if (seeds < 1) throw std::invalid_argument("the number of seeds must be ≥ 1");
+	if (repetitions < 1) throw std::invalid_argument("the number of repetitions must be ≥ 1");
 }
 
 std::vector<MonoBASweepRow> run_prior_weight_sweep(const problems::MonoBASceneOptions& scene_options, const MonoBAOptions& options,
 											 const MonoBASweepOptions& sweep)
 {
-	if (std::string why; !sweep.is_valid(&why)) throw std::invalid_argument("monoba sweep: " + why);
+	validate_with_prefix(sweep, "monoba sweep: ");
 	struct Config
 	{
 		GaugeMode gauge;

@@ -6,17 +6,13 @@
 
 namespace swba::apps
 {
-bool PgoAppOptions::is_valid(std::string* why) const
+void PgoAppOptions::validate() const
 {
-	const auto fail = [&](const std::string& msg) {
-		if (why) *why = msg;
-		return false;
-	};
-	if (!(prior_sigma > 0)) return fail("prior_sigma must be > 0");
-	if (!loss_is_valid(loss, loss_scale, why)) return false;
+	if (!(prior_sigma > 0)) throw std::invalid_argument("prior_sigma must be > 0");
+	make_loss(loss, loss_scale);  // throws std::invalid_argument when the loss cannot be made
 	if (solver.linear_solver == LinearSolverType::DenseSchur || solver.linear_solver == LinearSolverType::SparseSchur)
-		return fail("a pose graph has no variables to eliminate (use auto, dense-normal or sparse-normal)");
-	return solver.is_valid(why);
+		throw std::invalid_argument("a pose graph has no variables to eliminate (use auto, dense-normal or sparse-normal)");
+	solver.validate();
 }
 
 problems::PoseGraphInitOptions PgoAppOptions::init_options() const
@@ -64,7 +60,7 @@ Summary solve_pgo(problems::PoseGraphProblem& problem, io::PoseGraph& graph, con
 
 PgoAppResult run_pgo_app(const PgoAppOptions& options, std::ostream& out, std::ostream& log)
 {
-	if (std::string why; !options.is_valid(&why)) throw std::invalid_argument(why);
+	options.validate();
 	const io::G2oReadOptions read = options.read_options();
 	io::PoseGraph graph = io::read_g2o(options.input_path, read);
 	if (const auto skipped = graph.skipped_summary(); !skipped.empty()) log << "swba pgo: warning: " << skipped << "\n";

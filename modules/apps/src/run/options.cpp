@@ -1,6 +1,7 @@
 #include <swba/estimators/ekf_slam.h>
 #include <swba/apps/run_options.h>
 #include <swba/core/file.h>
+#include <swba/core/validation.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/system/filesystem.h>
@@ -362,8 +363,7 @@ void RunOptions::validate() const
 		w.policy = policy;
 		w.validate();
 	}
-	std::string why;
-	if (!imu.is_valid(&why)) throw std::invalid_argument("[imu]: " + why);
-	if (!sensors.is_valid(&why)) throw std::invalid_argument("[sensors]: " + why);
+	validate_with_prefix(imu, "[imu]: ");
+	validate_with_prefix(sensors, "[sensors]: ");
 }
 }  // namespace swba::apps

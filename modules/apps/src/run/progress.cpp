@@ -7,10 +7,8 @@
 
 namespace swba::apps
 {
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
 ProgressLine::ProgressLine(std::ostream& log, bool enabled, std::string label, std::size_t total)
-	: log_(log), enabled_(enabled), label_(std::move(label)), total_(total), start_(Clock::now()), last_(start_)
+	: log_(log), enabled_(enabled), label_(std::move(label)), total_(total), start_(SteadyClock::now()), last_(start_)
 {
 	tty_ = (&log == &std::cerr) && ::isatty(2);
 }
@@ -18,7 +16,7 @@ ProgressLine::ProgressLine(std::ostream& log, bool enabled, std::string label, s
 void ProgressLine::update(std::size_t done)
 {
 	if (!enabled_) return;
-	const auto now = Clock::now();
+	const auto now = SteadyClock::now();
 	const double since_start = std::chrono::duration<double>(now - start_).count();
 	const double since_last = std::chrono::duration<double>(now - last_).count();
 	if (since_start < 1.0 || (printed_ && since_last < (tty_ ? 0.25 : 10.0))) return;

@@ -1,16 +1,14 @@
 // A progress line on the log for `swba run`'s long tasks.
 #pragma once
 
-#include <chrono>
+#include <swba/core/timing.h>
+
 #include <cstddef>
 #include <iosfwd>
 #include <string>
 
 namespace swba::apps
 {
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0);
-
 /** A progress line on `log` for a task that runs longer than a second: on a terminal one line
  * rewritten in place ("\r"), otherwise a line every 10 s; "<label>: done in t s" at the end when
  * anything was printed. Disabled (prints nothing) when `enabled` is false. */
@@ -34,7 +32,7 @@ class ProgressLine
 	bool enabled_;
 	std::string label_;
 	std::size_t total_;
-	Clock::time_point start_, last_;
+	SteadyClock::time_point start_, last_;
 	bool tty_ = false, printed_ = false, finished_ = false;
 };
 }  // namespace swba::apps

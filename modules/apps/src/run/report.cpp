@@ -72,7 +72,7 @@ const std::vector<StatsPart>& stats_parts()
 
 void write_text_file(const std::string& path, const std::string& text, RunReport& report)
 {
-	write_file_atomically(path, [&](std::ostream& f) { f << text; });
+	write_text_file_atomically(path, text);
 	report.files.push_back(path);
 }
 }  // namespace

@@ -1,8 +1,8 @@
 // swba nees: the NEES sweep written, run job after job, merged; swba merge's dispatch (see nees.h).
 #include <swba/apps/nees.h>
 #include <swba/apps/sweep.h>
+#include <swba/core/timing.h>
 
-#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <ostream>
@@ -75,14 +75,14 @@ int run_nees_app(const NeesOptions& o, std::ostream& out, std::ostream& log)
 		std::error_code ec;
 		fs::create_directories(dir, ec);
 		if (ec) throw std::runtime_error("cannot create '" + dir + "': " + ec.message());
-		const auto t0 = std::chrono::steady_clock::now();
+		const auto t0 = SteadyClock::now();
 		const std::string failure = run_shell(job.command, dir + "/job.log");
 		if (!failure.empty())
 			throw std::runtime_error("job " + std::to_string(job.id) + " of " + std::to_string(plan.jobs.size()) +
 									 " (seed " + std::to_string(plan.groups[job.group].seed) + ") failed, " + failure +
 									 ": see " + dir + "/job.log; re-run it alone: sed -n " + std::to_string(job.id) +
 									 "p " + plan.dir + "/jobs.txt | bash, then swba merge " + plan.dir);
-		const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+		const double s = seconds_since(t0);
 		char buf[64];
 		std::snprintf(buf, sizeof(buf), "%.1f", s);
 		log << "swba nees: job " << job.id << "/" << plan.jobs.size() << " (seed " << plan.groups[job.group].seed

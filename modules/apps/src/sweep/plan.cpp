@@ -281,7 +281,7 @@ void write_sweep(const SweepOptions& options, const SweepPlan& plan, std::ostrea
 	fs::create_directories(plan.dir, ec);
 	if (ec) throw std::runtime_error("cannot create sweep directory '" + plan.dir + "': " + ec.message());
 	auto write = [&](const std::string& name, const std::string& text) {
-		write_file_atomically(plan.dir + "/" + name, [&](std::ostream& f) { f << text; });
+		write_text_file_atomically(plan.dir + "/" + name, text);
 	};
 	const std::string header = "# swba sweep: the swba run options of ";
 	write(kRunConfig, header + "each rawlog's first job (load with swba run --config)\n" +

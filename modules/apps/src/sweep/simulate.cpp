@@ -149,7 +149,7 @@ SimulatedRawlog simulate_rawlog(const SimulateOptions& o, std::ostream& log)
 	out.landmarks = (dir / (name + "_ground_truth.txt")).string();
 	out.ini = (dir / (name + ".ini")).string();
 	out.log = (dir / (name + ".simul-landmarks.log")).string();
-	write_file_atomically(out.ini, [&](std::ostream& f) { f << ini_text; });
+	write_text_file_atomically(out.ini, ini_text);
 
 	// A private working directory: simul-landmarks writes there, and two jobs never share one.
 	const fs::path work = dir / (".simulate-" + name + "." + std::to_string(::getpid()));

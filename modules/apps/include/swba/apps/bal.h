@@ -26,8 +26,8 @@ struct BalAppOptions
 	SolverOptions solver = default_solver_options();
 
 	static SolverOptions default_solver_options();
-	/** False, with the reason in `why`, on invalid solver options or a loss that cannot be made. */
-	bool is_valid(std::string* why) const;
+	/** Throws std::invalid_argument on invalid solver options or a loss that cannot be made. */
+	void validate() const;
 };
 
 struct BalAppResult

@@ -32,7 +32,8 @@ struct DirectBAOptions
 	/** Factor options (image border margin, minimum depth). */
 	PhotometricPatchFactor::Options factor;
 
-	bool is_valid(std::string* why) const;
+	/** Throws std::invalid_argument naming the option that is out of range. */
+	void validate() const;
 };
 
 /** Photometric statistics at one set of values. */
@@ -117,9 +118,9 @@ struct DirectBAAppOptions
 	 * (empty: not written). */
 	std::string out_dir;
 
-	/** False, with the reason in `why`: invalid adjustment options, a directory with `synthetic` or
-	 * none without. */
-	bool is_valid(std::string* why) const;
+	/** Throws std::invalid_argument on invalid adjustment options, a directory with `synthetic` or none
+	 * without. */
+	void validate() const;
 };
 
 struct DirectBAAppResult

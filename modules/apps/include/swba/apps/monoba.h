@@ -31,7 +31,8 @@ struct MonoBAOptions
 	/** LM options. Default SolverOptions' (50 iterations, 1 thread). */
 	SolverOptions solver;
 
-	bool is_valid(std::string* why) const;
+	/** Throws std::invalid_argument naming the option that is out of range. */
+	void validate() const;
 };
 
 /** The problem built from a scene, with the ids of its variables. */
@@ -99,7 +100,8 @@ struct MonoBASweepOptions
 	bool reference_rows = true;
 
 	MonoBASweepOptions();
-	bool is_valid(std::string* why) const;
+	/** Throws std::invalid_argument naming the option that is out of range. */
+	void validate() const;
 };
 
 /** One row of the sweep table: means over the seeds. */
@@ -145,8 +147,8 @@ struct MonoBAAppOptions
 
 	/** The sweep's options: default weights and reference rows, sweep_seeds and repetitions. */
 	MonoBASweepOptions sweep_options() const;
-	/** False, with the reason in `why`, on an invalid scene, adjustment or sweep. */
-	bool is_valid(std::string* why) const;
+	/** Throws std::invalid_argument on an invalid scene, adjustment or sweep. */
+	void validate() const;
 };
 
 /** Runs the adjustment (prints its report) or the sweep (prints its table) to `out` and writes

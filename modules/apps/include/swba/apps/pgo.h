@@ -40,9 +40,9 @@ struct PgoAppOptions
 	/** LM options. Default problems::pose_graph_solver_options(). */
 	SolverOptions solver = problems::pose_graph_solver_options();
 
-	/** False, with the reason in `why`, on invalid values: prior_sigma ≤ 0, a loss that cannot be
+	/** Throws std::invalid_argument on invalid values: prior_sigma ≤ 0, a loss that cannot be
 	 * made, a Schur linear solver (a pose graph has no variables to eliminate), invalid LM options. */
-	bool is_valid(std::string* why) const;
+	void validate() const;
 	problems::PoseGraphInitOptions init_options() const;
 	problems::PoseGraphProblemOptions problem_options() const;
 	io::G2oReadOptions read_options() const;

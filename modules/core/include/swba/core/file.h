@@ -34,4 +34,6 @@ std::string read_text_file(const std::string& path, const std::string& what_file
  * thrown by `write` propagates after the temporary file is removed. */
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write,
 						   std::ios::openmode mode = std::ios::out);
+/** write_file_atomically of `text` as it is. */
+void write_text_file_atomically(const std::string& path, const std::string& text);
 }  // namespace swba

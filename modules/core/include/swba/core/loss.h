@@ -61,8 +61,6 @@ constexpr std::array<EnumName<RobustLoss>, 4> enum_names(RobustLoss)
 std::shared_ptr<const LossFunction> make_loss(RobustLoss kind, double a);
 /** make_loss(parse_enum<RobustLoss>(name, "loss"), a): "none" (or ""), "huber", "cauchy". */
 std::shared_ptr<const LossFunction> make_loss(const std::string& name, double a);
-/** False, with the reason in `why`, when make_loss(kind, a) would throw. */
-bool loss_is_valid(RobustLoss kind, double a, std::string* why);
 
 /** Applies a loss to a whitened residual r (dim m) and its Jacobian blocks as Ceres's Corrector does,
  * so that ½‖r̃‖² and J̃ᵀJ̃ give the robustified cost's gradient and Gauss-Newton Hessian.

@@ -55,7 +55,8 @@ struct InertialPriorOptions
 	 * observes them, so an odometry frame that is not level is corrected (Default = 0.1). */
 	double odometry_tilt_sigma = 0.1;
 
-	bool is_valid(std::string* why = nullptr) const;
+	/** Throws std::invalid_argument naming the option that is out of range. */
+	void validate() const;
 };
 
 /** The initial state and its 15×15 covariance (order [p, φ, v, b_a, b_g]). */

@@ -8,6 +8,8 @@ namespace swba::eval
 {
 /** `v` with `digits` significant digits in printf's %g style (17 round-trips a double exactly). */
 std::string format_significant(double v, int digits);
+/** `v` formatted by one printf conversion for a double, e.g. "%.2f" (a table cell). */
+std::string format_printf(const char* format, double v);
 /** A CSV field: quoted (with doubled quotes) when it holds a comma, a quote or a newline. */
 std::string csv_field(const std::string& s);
 }  // namespace swba::eval

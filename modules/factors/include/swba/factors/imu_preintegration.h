@@ -42,8 +42,8 @@ struct ImuNoise
 	/** Gravity in the world frame, m/s² (Default = (0, 0, −9.81)). */
 	Eigen::Vector3d gravity{0.0, 0.0, -9.81};
 
-	/** All densities positive and finite, gravity finite. */
-	bool is_valid(std::string* why = nullptr) const;
+	/** Throws std::invalid_argument unless all densities are positive and finite and gravity is finite. */
+	void validate() const;
 	/** Keys accel_noise_density, gyro_noise_density, accel_random_walk, gyro_random_walk, gravity_z. */
 	static IniKeys<ImuNoise> ini_keys(const std::string& section);
 };

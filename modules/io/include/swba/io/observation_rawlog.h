@@ -36,8 +36,8 @@ struct SensorRoles
 	 * odometry): only the relative motion between consecutive poses of the label is used. (Default = "") */
 	std::vector<std::string> odometry;
 
-	/** A label in both pose_prior and odometry is invalid. */
-	bool is_valid(std::string* why = nullptr) const;
+	/** Throws std::invalid_argument naming a label that is in both pose_prior and odometry. */
+	void validate() const;
 	/** Keys imu, pose_prior, odometry in `section` (e.g. "sensors"). */
 	static IniKeys<SensorRoles> ini_keys(const std::string& section);
 };

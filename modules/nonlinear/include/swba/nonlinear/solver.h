@@ -96,8 +96,8 @@ struct SolverOptions
 	/** Stop as soon as the cost is ≤ this value (for time-to-cost benchmarks). Default: off (-1). */
 	double stop_at_cost = -1.0;
 
-	/** Returns false and sets `why` when an option is out of range. */
-	bool is_valid(std::string* why) const;
+	/** Throws std::invalid_argument naming the option that is out of range. */
+	void validate() const;
 	/** The INI keys of these options in `section`: max_iterations, the three tolerances,
 	 * linear_solver, dense_max_dim and threads. */
 	static IniKeys<SolverOptions> ini_keys(const std::string& section);

@@ -40,7 +40,8 @@ struct MonoBASceneOptions
 	/** RNG seed (std::mt19937). Default 0. */
 	unsigned seed = 0;
 
-	bool is_valid(std::string* why) const;
+	/** Throws std::invalid_argument naming the option that is out of range. */
+	void validate() const;
 };
 
 struct MonoBAObservation
