@@ -1,4 +1,4 @@
-// Reader of the course's direct-BA data set: contents, pose convention, and clear errors on
+// Reader of the shipped direct-BA data set (share/data/directba): contents, pose convention, and clear errors on
 // missing/unreadable images and malformed text files.
 #include <swba/core/manifold.h>
 #include <swba/factors/photometric_patch.h>
@@ -35,7 +35,7 @@ void expect_error(const std::function<void()>& f, std::initializer_list<std::str
 	}
 }
 
-/** A fresh temporary copy of the course data set (or parts of it). */
+/** A fresh temporary copy of the shipped data set (or parts of it). */
 struct TempDataset
 {
 	fs::path dir;
@@ -57,7 +57,7 @@ struct TempDataset
 };
 }  // namespace
 
-TEST(DirectBAIO, ReadsTheCourseDataSet)
+TEST(DirectBAIO, ReadsTheShippedDataSet)
 {
 	const auto ds = io::read_directba_dataset(kDir);
 	ASSERT_EQ(ds.world_from_camera.size(), 7u);

@@ -1,4 +1,4 @@
-# End-to-end: `swba directba` on the course's 7-image set with the default options is
+# End-to-end: `swba directba` on the shipped 7-image set (share/data/directba) with the default options is
 # golden.directba_dataset (tests/golden/tests.cmake: every printed figure, and the files it writes);
 # the synthetic check exits 1 unless the ground truth is recovered (poses ≤ 1 mm / 0.05°, points ≤ 1 cm).
 add_test(NAME directba.e2e_synthetic_check COMMAND $<TARGET_FILE:swba> directba --synthetic --quiet)
@@ -14,9 +14,9 @@ set_tests_properties(directba.e2e_rejects_bad_sigma PROPERTIES WILL_FAIL TRUE)
 add_test(NAME directba.e2e_requires_dir COMMAND $<TARGET_FILE:swba> directba)
 set_tests_properties(directba.e2e_requires_dir PROPERTIES PASS_REGULAR_EXPRESSION "missing DIR")
 
-# Out-of-buffer reads under AddressSanitizer in every run of the suite (issue 7: "run under ASan in
-# CI"). The normal build is not sanitized, so the photometric factor's tests (bilinear sampling, the
-# border rule's never-read-outside sweep, Jacobians) are built a second time together with the code
+# Out-of-buffer reads under AddressSanitizer in every run of the suite, the Release build's too. The
+# normal build is not sanitized, so the photometric factor's tests (bilinear sampling, the border
+# rule's never-read-outside sweep, Jacobians) are built a second time together with the code
 # they exercise — modules/core and the photometric factor — with -fsanitize=address,undefined. Any
 # read outside an image buffer aborts the test. Skipped when the whole build is sanitized already
 # (SWBA_SANITIZE=ON runs every test under ASan) or when the compiler has no ASan runtime.

@@ -1,4 +1,4 @@
-# Packaging tests (issue 8): the build tree installs into a temporary prefix, the stand-alone project
+# Packaging tests: the build tree installs into a temporary prefix, the stand-alone project
 # examples/ is configured and built against that prefix with find_package(swba), and its program
 # (the window estimator fed CActionCollection/CSensoryFrame pairs through swba/estimators/mrpt_adapter.h)
 # must give exactly `swba run`'s trajectory on kf-slam_6D_demo at the same settings.

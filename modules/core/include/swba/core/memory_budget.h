@@ -1,7 +1,7 @@
 /** \file memory_budget.h
  * A memory budget for reading untrusted files through code that allocates what the file declares
  * (MRPT 2.5's deserialisation resizes strings, vectors and deques to 32-bit counts read from the
- * stream, before it can notice that the data is not there: doc/fuzzing.md, "MRPT findings"). */
+ * stream, before it can notice that the data is not there: doc/benchmarks/fuzzing.md, "MRPT findings"). */
 #pragma once
 
 #include <cstddef>

@@ -1,13 +1,14 @@
 /** \file photometric_patch.h
  * Direct (photometric) bundle adjustment: a 4×4 intensity patch of a 3-D point, taken from its host
  * image, compared with a target image sampled by bilinear interpolation around the point's
- * projection (the seed's directBA residual, with analytic Jacobians).
+ * projection (the residual of the directBA.cpp that came with the shipped data set, share/data/directba/
+ * PROVENANCE.txt, with analytic Jacobians).
  *
  * Conventions (see doc/directba.md for the derivation):
  * - The pose variable stores **world-from-camera** T_wc = [R | t] (SE3Manifold, right perturbation
  *   T ⊞ δ = T·PseudoExp(δ), δ = [ρ, ω]); a world point p_w is seen at p_c = Rᵀ(p_w − t).
  * - Pixel (i, j) of an image has its centre at u = i, v = j; u = fx·x/z + cx, v = fy·y/z + cy.
- * - Patch sample k = 4·(dx + 2) + (dy + 2) for dx, dy ∈ {−2, −1, 0, 1} (dx outer, as the seed).
+ * - Patch sample k = 4·(dx + 2) + (dy + 2) for dx, dy ∈ {−2, −1, 0, 1} (dx outer, as in that directBA.cpp).
  */
 #pragma once
 

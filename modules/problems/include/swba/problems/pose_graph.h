@@ -75,7 +75,7 @@ void update_pose_graph(io::PoseGraph& graph, const PoseGraphProblem& problem);
  * Used to compare peers whatever they report themselves. */
 double pose_graph_cost(const io::PoseGraph& graph, RotationError rotation_error = RotationError::G2o);
 
-/** SolverOptions for pose graphs, as `swba pgo` uses them (doc/pgo.md, "Performance"): max_iterations
+/** SolverOptions for pose graphs, as `swba pgo` uses them (doc/benchmarks/pgo.md, "Performance"): max_iterations
  * 100, dense_max_dim 200 (pose-graph normal equations are very sparse: CHOLMOD beyond 200 unknowns),
  * initial_trust_region_radius kPoseGraphInitialTrustRegion (a nearly Gauss-Newton first step; LM
  * still shrinks it after a rejected step); everything else SolverOptions' defaults. */
