@@ -15,7 +15,7 @@ parallel --version 2>/dev/null | head -1 | grep -q "GNU parallel" || fail "'para
 
 cat >"$out/run.ini" <<'INI'
 [run]
-max_steps = 40
+max_steps = 20
 [window]
 sizes = 3,5
 fej = both

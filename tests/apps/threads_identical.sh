@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # swba run gives the same output whatever the solver's thread count: every TUM and covariance file and
 # ape.txt byte for byte with --threads 1 and --threads 2, on a rawlog with landmark IDs and on one
-# without (data association). The solver evaluates factors and builds the Schur complement in parallel
-# above 2000 factors (kParallelMin): the batch of the first 250 steps of kf-slam_6D_demo (about 2300)
-# and of the whole kf-slam_6D_demo_DA (about 2100) do, a window does not.
+# without (data association). The solver evaluates factors and builds the normal equations and the
+# Schur complement in parallel above 2000 factors (kParallelMin): the batch of the first 250 steps of
+# kf-slam_6D_demo (2299 factors) does, a window does not. No run of kf-slam_6D_demo_DA reaches it (the
+# whole log's batch has 1756 factors), so its first 60 steps check what does not depend on the log's
+# length: the association's decisions and everything after them stay the same with --threads 2.
 #   threads_identical.sh SWBA OUT_DIR RAWLOG STEPS [RAWLOG STEPS]...   (STEPS: --max-steps, or all)
 set -euo pipefail
 swba=$1 out=$2

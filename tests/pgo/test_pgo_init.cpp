@@ -427,6 +427,7 @@ TEST(PgoInit, DefaultPipelineMatchesCeresWithFewerIterations)
 			ASSERT_TRUE(summary.is_solution_usable()) << c.file;
 			update_pose_graph(g, pp);
 			const double cost = pose_graph_cost(g, c.model);
+			EXPECT_NEAR(cost, summary.final_cost, 1e-9 * cost) << c.file << " run " << run;
 			EXPECT_NEAR(cost / c.ceres_final_cost, 1.0, 1e-4) << c.file << " run " << run;
 			iterations[run] = summary.iterations;
 		}
