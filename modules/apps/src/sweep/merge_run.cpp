@@ -278,8 +278,7 @@ RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptio
 
 RunMerge merge_run_sweep(const SweepPlan& plan, const MergeOptions& options, std::ostream& out, std::ostream& log)
 {
-	if (plan.kind != SweepKind::Run) throw std::invalid_argument("not a run sweep");
-	check_jobs_complete(plan, log);
+	check_mergeable(plan, SweepKind::Run, "run", log);
 	RunOptions config;
 	load_run_config(plan.dir + "/config.ini", config);
 	const std::string out_dir = options.out_dir.empty() ? plan.dir + "/merged" : options.out_dir;

@@ -171,8 +171,7 @@ std::string write_nees_files(const std::string& dir, const MergeOptions& options
 
 NeesReport merge_nees_sweep(const SweepPlan& plan, const MergeOptions& options, std::ostream& out, std::ostream& log)
 {
-	if (plan.kind != SweepKind::Nees) throw std::invalid_argument("not a NEES sweep");
-	check_jobs_complete(plan, log);
+	check_mergeable(plan, SweepKind::Nees, "NEES", log);
 	NeesReport report;
 	report.simulate_ini = plan.simulate_ini;
 	NeesRunsByLabel runs;

@@ -138,4 +138,10 @@ std::string find_covariance_file(const std::string& dir, const RunRow& row)
 		if (std::filesystem::exists(dir + "/" + n)) return dir + "/" + n;
 	return "";
 }
+
+void check_mergeable(const SweepPlan& plan, SweepKind kind, const std::string& what, std::ostream& log)
+{
+	if (plan.kind != kind) throw std::invalid_argument("not a " + what + " sweep");
+	check_jobs_complete(plan, log);
+}
 }  // namespace swba::apps

@@ -2,9 +2,11 @@
 #pragma once
 
 #include <swba/apps/run.h>
+#include <swba/apps/sweep.h>
 
 #include <nlohmann/json.hpp>
 
+#include <iosfwd>
 #include <string>
 
 namespace swba::apps
@@ -16,6 +18,10 @@ struct JobSummary
 	std::string path;  ///< <dir>/summary.json
 	nlohmann::ordered_json json;
 };
+
+/** Before merging: throws std::invalid_argument "not a <what> sweep" unless `plan` is of `kind`, then
+ * check_jobs_complete. */
+void check_mergeable(const SweepPlan& plan, SweepKind kind, const std::string& what, std::ostream& log);
 
 /** Reads <dir>/summary.json. Throws std::runtime_error naming the file (missing, not JSON, no
  * "estimators"). */
