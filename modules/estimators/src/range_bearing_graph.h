@@ -148,6 +148,9 @@ class RangeBearingGraph
 	std::map<std::int32_t, Landmark>& landmarks() { return landmarks_; }
 	const std::map<std::int32_t, Landmark>& landmarks() const { return landmarks_; }
 	bool is_landmark(VariableId v) const { return landmark_of_var_.count(v) > 0; }
+	/** How the smoother handles `v` while only its prior touches it: landmarks are eliminated, or stored
+	 * with the SLAM policy and known IDs (SlidingWindowOptions::eliminate_prior_only_landmarks). */
+	smoother::PriorOnly prior_only(VariableId v) const;
 	/** A landmark variable holding a world point (XYZ parameterisation, or switched to world XYZ). */
 	bool is_world_point(VariableId v) const;
 	/** World XYZ of every landmark by ID. */
@@ -162,8 +165,8 @@ class RangeBearingGraph
 	/** Drops the observations whose factors are in `removed`. */
 	void forget_observations(const std::set<FactorId>& removed);
 
-	/** Re-anchors inverse-depth landmark `lm` to pose step `b`: an exact rewrite of its factors, and a
-	 * first-order change of variables λ = g(T_a, T_b, λ') in the prior if λ is in it. */
+	/** Re-anchors inverse-depth landmark `lm`, which is not in the marginal prior, to pose step `b`: an
+	 * exact rewrite of its factors. (A landmark in the prior is switched to world XYZ instead.) */
 	void reanchor(Landmark& lm, std::size_t b);
 	/** Switches inverse-depth landmark `lm`, which is in the marginal prior and whose anchor a is about
 	 * to be marginalised, to world XYZ p: an exact rewrite of its factors, and a first-order change of

@@ -1,5 +1,7 @@
 #include "prior_only_elimination.h"
 
+#include "conditional_mean.h"
+
 #include <swba/factors/linear_prior.h>
 #include <swba/linear/marginal.h>
 
@@ -60,14 +62,14 @@ bool PriorOnlyElimination::begin(Problem& problem, MarginalPrior& prior, double 
 	PartitionedNormalEquations s = prior.has_information()
 		? partition_normal_equations(prior.H(), prior.b(), pcols_, acols_)
 		: partition_square_root(prior.J(), prior.e(), pcols_, acols_);
-	reduce(problem, prior, eliminate_conditional(std::move(s), threshold));
+	reduce(problem, prior, eliminate(std::move(s), threshold));
 	return true;
 }
 
-void PriorOnlyElimination::reduce(Problem& problem, MarginalPrior& prior, ConditionalElimination c)
+void PriorOnlyElimination::reduce(Problem& problem, MarginalPrior& prior, GaussianElimination c)
 {
-	K_ = std::move(c.K);
-	k_ = std::move(c.k);
+	K_ = std::move(c.conditional.K);
+	k_ = std::move(c.conditional.k);
 	prior.uninstall(problem);
 	for (VariableId v : passive_) problem.set_constant(v, true);
 	const MarginalizationResult& red = c.marginal;
@@ -87,18 +89,16 @@ void PriorOnlyElimination::end(Problem& problem, MarginalPrior& prior)
 	Eigen::VectorXd da(K_.cols());
 	for (const auto& a : active_)
 		problem.variable(a.var).manifold->minus(problem.value(a.var), a.x_lin.data(), da.data() + a.offset);
-	const Eigen::VectorXd dp = k_ - K_ * da;
+	ConditionalMean dp(k_);
+	dp.condition(K_, da);
 	int off = 0;
 	for (std::size_t i = 0; i < passive_.size(); i++)
 	{
 		// x = x_lin ⊞ δp: the prior is quadratic in δ = x ⊟ x_lin whatever the manifold (a planar
 		// landmark's storage is R³, its update (x, y)).
-		const auto& lin = passive_lin_[i];
 		const Manifold& m = *problem.variable(passive_[i]).manifold;
-		std::vector<double> x(lin.size());
-		m.plus(lin.data(), dp.data() + off, x.data());
+		problem.set_value(passive_[i], dp.value(m, passive_lin_[i], off).data());
 		off += m.tangent_size();
-		problem.set_value(passive_[i], x.data());
 		problem.set_constant(passive_[i], false);
 	}
 	if (reduced_factor_ >= 0) problem.remove_factor(reduced_factor_);

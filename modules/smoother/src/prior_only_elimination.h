@@ -44,7 +44,7 @@ class PriorOnlyElimination
 	/** Splits the prior's variables; false when none is prior-only. Fills pcols/acols (scalar columns). */
 	bool split(const Problem& problem, const MarginalPrior& prior, const std::function<bool(VariableId)>& eliminable);
 	/** Swaps the prior factor for the reduced one (the marginal of the conditional elimination `c`). */
-	void reduce(Problem& problem, MarginalPrior& prior, ConditionalElimination c);
+	void reduce(Problem& problem, MarginalPrior& prior, GaussianElimination c);
 
 	std::vector<int> pcols_, acols_;
 	std::vector<std::shared_ptr<const Manifold>> amanifolds_;

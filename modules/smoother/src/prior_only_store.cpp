@@ -1,5 +1,7 @@
 #include "prior_only_store.h"
 
+#include "conditional_mean.h"
+
 #include <swba/linear/marginal.h>
 #include <swba/linear/rank_update.h>
 
@@ -12,19 +14,6 @@ namespace swba::smoother::detail
 {
 namespace
 {
-/** The inverse of a symmetric positive semi-definite block: by Cholesky when it is clearly positive
- * definite, else the thresholded pseudo-inverse (as swba::eliminate_conditional applies it). */
-Eigen::MatrixXd spd_inverse(const Eigen::MatrixXd& A, double threshold)
-{
-	Eigen::LLT<Eigen::MatrixXd> llt(A);
-	if (llt.info() == Eigen::Success)
-	{
-		const Eigen::VectorXd d = llt.matrixL().toDenseMatrix().diagonal().cwiseAbs2();
-		if (d.minCoeff() > threshold * d.maxCoeff()) return llt.solve(Eigen::MatrixXd::Identity(A.rows(), A.cols()));
-	}
-	return truncated_pseudo_inverse(A, threshold);
-}
-
 /** F with F Fᵀ = S for a symmetric positive semi-definite S: its Cholesky factor when S is positive
  * definite, else V √D⁺ from its eigendecomposition (negative rounding clamped to zero). */
 Eigen::MatrixXd psd_factor(const Eigen::MatrixXd& S)
@@ -236,9 +225,8 @@ void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::v
 	const Eigen::MatrixXd H = prior.has_information() ? prior.H() : Eigen::MatrixXd(prior.J().transpose() * prior.J());
 	const Eigen::VectorXd b = prior.has_information() ? prior.b() : Eigen::VectorXd(-(prior.J().transpose() * prior.e()));
 	PartitionedNormalEquations s = partition_normal_equations(H, b, lcols, acols);
-	Eigen::MatrixXd C_ll = spd_inverse(s.Hpp, threshold);
-	C_ll = (0.5 * (C_ll + C_ll.transpose())).eval();  // (the solve's inverse is symmetric to rounding only)
-	ConditionalElimination c = eliminate_conditional(std::move(s), threshold);
+	GaussianElimination c = swba::eliminate(std::move(s), threshold, true);
+	Eigen::MatrixXd C_ll = 0.5 * (c.conditional.covariance + c.conditional.covariance.transpose());
 
 	// Rows for the joining variables, then the stored rows' dependence on them, K_pl (zero in new rows).
 	for (auto& m : joining) m.offset = allocate(m.dim);
@@ -258,10 +246,10 @@ void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::v
 		}
 	}
 	// Substitute d_l = k_l − K_la d_a + ε_l in the stored rows, then write l's own rows.
-	k_.head(n).noalias() -= K_pl * c.k;
+	k_.head(n).noalias() -= K_pl * c.conditional.k;
 	for (std::size_t i = 0, c0 = 0; i < avars.size(); c0 += static_cast<std::size_t>(adims[i]), i++)
 	{
-		const Eigen::MatrixXd K_la = c.K.middleCols(static_cast<Eigen::Index>(c0), adims[i]);
+		const Eigen::MatrixXd K_la = c.conditional.K.middleCols(static_cast<Eigen::Index>(c0), adims[i]);
 		auto it = K_.find(avars[i]);
 		if (it == K_.end()) it = K_.emplace(avars[i], Eigen::MatrixXd::Zero(k_.size(), adims[i])).first;
 		it->second.topRows(n).noalias() -= K_pl * K_la;
@@ -279,7 +267,7 @@ void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::v
 	for (Eigen::Index i = 0, r0 = 0; i < static_cast<Eigen::Index>(joining.size()); r0 += joining[i].dim, i++)
 	{
 		const Member& m = joining[static_cast<std::size_t>(i)];
-		k_.segment(m.offset, m.dim) = c.k.segment(r0, m.dim);
+		k_.segment(m.offset, m.dim) = c.conditional.k.segment(r0, m.dim);
 		C_.middleCols(m.offset, m.dim).topRows(n) = -KC.middleCols(r0, m.dim);
 		C_.middleRows(m.offset, m.dim).leftCols(n) = -KC.middleCols(r0, m.dim).transpose();
 	}
@@ -320,17 +308,13 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 		n0 += problem.variable(v).manifold->tangent_size();
 	}
 	Eigen::MatrixXd J_rows = Eigen::MatrixXd::Zero(nl, n0 + nl);
-	Eigen::VectorXd d_l = k_l;
+	ConditionalMean d_l(k_l);
 	for (const auto& [w, K] : K_)
 	{
-		const int idx = prior.index_of(w);
-		if (idx < 0) throw std::logic_error("PriorOnlyStore::release: a conditioning variable left the prior");
+		const int idx = active_index(prior, w);
 		const Eigen::MatrixXd K_lw = gather_rows(K, lrows);
 		J_rows.middleCols(col_of_var[static_cast<std::size_t>(idx)], K.cols()) = K_lw;
-		Eigen::VectorXd dw(K.cols());
-		problem.variable(w).manifold->minus(problem.value(w), prior.linearization_points()[static_cast<std::size_t>(idx)].data(),
-											dw.data());
-		d_l.noalias() -= K_lw * dw;
+		d_l.condition(K_lw, active_offset(problem, prior, w, idx));
 	}
 	J_rows.rightCols(nl).setIdentity();
 	J_rows = llt.matrixL().solve(J_rows).eval();
@@ -342,9 +326,7 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 		{
 			x_lin.push_back(linearization_point(v));
 			const Manifold& m = *problem.variable(v).manifold;
-			std::vector<double> x(x_lin.back().size());
-			m.plus(x_lin.back().data(), d_l.data() + off, x.data());
-			problem.set_value(v, x.data());
+			problem.set_value(v, d_l.value(m, x_lin.back(), off).data());
 			problem.set_constant(v, false);
 			off += m.tangent_size();
 		}
@@ -431,39 +413,40 @@ void PriorOnlyStore::change_active(const VariableChange& change)
 {
 	auto it = K_.find(change.old_var);
 	if (it == K_.end()) return;
-	const Eigen::MatrixXd KD = it->second * change.D;
+	const auto blocks = change_columns(change, it->second);
 	K_.erase(it);
-	for (const auto& [y, Hy] : change.H_poses)
+	for (std::size_t i = 1; i < blocks.size(); i++)
 	{
-		const Eigen::MatrixXd upd = KD * Hy;
-		auto jt = K_.find(y);
+		auto jt = K_.find(blocks[i].first);
 		if (jt == K_.end())
-			K_[y] = upd;
+			K_[blocks[i].first] = blocks[i].second;
 		else
-			jt->second += upd;
+			jt->second += blocks[i].second;
 	}
-	K_[change.new_var] = KD * change.H_new;
+	K_[change.new_var] = blocks[0].second;
 }
 
 void PriorOnlyStore::set_values(Problem& problem, const MarginalPrior& prior) const
 {
 	if (empty()) return;
 	const Eigen::Index n = used_;
-	Eigen::VectorXd d = k_.head(n);
-	for (const auto& [w, K] : K_)
-	{
-		const int idx = prior.index_of(w);
-		if (idx < 0) throw std::logic_error("PriorOnlyStore::set_values: a conditioning variable left the prior");
-		Eigen::VectorXd dw(K.cols());
-		problem.variable(w).manifold->minus(problem.value(w), prior.linearization_points()[static_cast<std::size_t>(idx)].data(),
-											dw.data());
-		d.noalias() -= K.topRows(n) * dw;
-	}
-	for (const auto& m : members_)
-	{
-		std::vector<double> x(m.x_lin.size());
-		m.manifold->plus(m.x_lin.data(), d.data() + m.offset, x.data());
-		problem.set_value(m.var, x.data());
-	}
+	ConditionalMean d(k_.head(n));
+	for (const auto& [w, K] : K_) d.condition(K.topRows(n), active_offset(problem, prior, w, active_index(prior, w)));
+	for (const auto& m : members_) problem.set_value(m.var, d.value(*m.manifold, m.x_lin, m.offset).data());
+}
+
+int PriorOnlyStore::active_index(const MarginalPrior& prior, VariableId w)
+{
+	const int idx = prior.index_of(w);
+	if (idx < 0) throw std::logic_error("PriorOnlyStore: a conditioning variable left the prior");
+	return idx;
+}
+
+Eigen::VectorXd PriorOnlyStore::active_offset(const Problem& problem, const MarginalPrior& prior, VariableId w, int idx)
+{
+	const Manifold& m = *problem.variable(w).manifold;
+	Eigen::VectorXd dw(m.tangent_size());
+	m.minus(problem.value(w), prior.linearization_points()[static_cast<std::size_t>(idx)].data(), dw.data());
+	return dw;
 }
 }  // namespace swba::smoother::detail

@@ -73,6 +73,11 @@ class PriorOnlyStore
 	void clear() { *this = PriorOnlyStore(); }
 
    private:
+	/** Index of the conditioning variable w in `prior` (throws std::logic_error if it left). */
+	static int active_index(const MarginalPrior& prior, VariableId w);
+	/** δ_w = x_w ⊟ x_lin,w at the problem's value and the prior's point (w at `idx` in the prior). */
+	static Eigen::VectorXd active_offset(const Problem& problem, const MarginalPrior& prior, VariableId w, int idx);
+
 	struct Member
 	{
 		VariableId var;
