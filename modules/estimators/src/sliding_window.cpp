@@ -60,9 +60,12 @@ struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 
 	bool hold(const smoother::UpdateSummary&) override
 	{
-		if (opt().gauge != GaugeMode::Free) return false;
-		graph.hold_gauge(*before);
-		return true;
+		if (opt().gauge == GaugeMode::Free)
+		{
+			graph.hold_gauge(*before);
+			return true;
+		}
+		return false;
 	}
 
 	void solved(const smoother::UpdateSummary& u) override
