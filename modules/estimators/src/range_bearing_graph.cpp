@@ -22,14 +22,8 @@ SlidingWindowOptions validated(const SlidingWindowOptions& options)
 
 smoother::FixedLagSmootherOptions smoother_options(const SlidingWindowOptions& o)
 {
-	smoother::FixedLagSmootherOptions s;
 	// The re-linearised poses are re-solved at every step; the rest of the window W is the linear tail.
-	s.window = o.window_size;
-	s.relinearized = o.relinearized_window();
-	s.first_estimate_jacobians = o.first_estimate_jacobians;
-	s.marginalization_threshold = o.marginalization_threshold;
-	s.solver = o.solver;
-	return s;
+	return {o.window_size, o.relinearized_window(), o.first_estimate_jacobians, o.marginalization_threshold, o.solver};
 }
 
 /** The pose on the plane z = 0: (x, y, yaw). */
@@ -237,6 +231,13 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 			}
 	sum.readings += static_cast<int>(readings.size());
 	counts_.readings += readings.size();
+	admit_step_readings(readings, matched, sum);
+	if (gate_on_entry_ && !associating) retest_held(k, sum);
+}
+
+void RangeBearingGraph::admit_step_readings(const std::vector<std::pair<std::int32_t, Observation>>& readings,
+											const std::vector<bool>& matched, StepSummary& sum)
+{
 	if (gate_on_entry_) centre_gate(readings);
 	for (std::size_t i = 0; i < readings.size(); i++)
 	{
@@ -252,7 +253,6 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 		auto it = landmarks_.find(id);
 		admit(it == landmarks_.end() ? add_landmark(id, o) : it->second, o);
 	}
-	if (gate_on_entry_ && !associating) retest_held(k, sum);
 }
 
 smoother::PriorOnly RangeBearingGraph::prior_only(VariableId v) const

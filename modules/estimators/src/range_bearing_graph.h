@@ -286,6 +286,19 @@ class RangeBearingGraph
 		Eigen::MatrixXd covariance_of(int a, int b, int dim) const;
 	};
 	JointPrediction predict_jointly(std::size_t k, const std::vector<PredictionTarget>& targets);
+	/** predict_jointly() for target j (`vars`: its variables; `at`: their first columns in the group). */
+	void predict_one(std::size_t k, const PredictionTarget& t, const std::vector<VariableId>& vars,
+					 const std::map<VariableId, int>& at, int j, JointPrediction& out) const;
+	/** The rows of target `t`'s prediction (sensor frame of pose step k) over the tangent of variable
+	 * `v`, by central differences, written into `J` (reading_dof × v's tangent size). */
+	void target_jacobian(std::size_t k, const PredictionTarget& t, VariableId v, Eigen::Ref<Eigen::MatrixXd> J) const;
+	/** The candidates of data association (the graph's landmarks, the provisional ones, the map's) and
+	 * their IDs in `ids`, in that order. */
+	std::vector<PredictionTarget> association_candidates(std::vector<std::int32_t>& ids) const;
+	/** The candidates individually compatible (inside `gate`) with some reading of `prob`, each reading
+	 * keeping its few nearest, in increasing order. */
+	static std::vector<int> compatible_candidates(const AssociationProblem& prob, const JointPrediction& pred,
+												  std::size_t num_candidates, double gate);
 	/** The window variables target `t`'s world point depends on. */
 	std::vector<VariableId> target_variables(const PredictionTarget& t) const;
 	/** Target `t` in the sensor frame of pose step k, with variable `v` at `xv` (v < 0: every variable
@@ -328,6 +341,10 @@ class RangeBearingGraph
 											  const std::vector<ReadingMove>& moved) const;
 	/** Adds the factor of `o` to `lm` and records it as admitted. */
 	void admit(Landmark& lm, Observation o);
+	/** The step's readings (IDs assigned, `matched`: associated to an existing landmark) into the graph:
+	 * gated on entry when on, else each joins its landmark (a new one if unknown). */
+	void admit_step_readings(const std::vector<std::pair<std::int32_t, Observation>>& readings,
+							 const std::vector<bool>& matched, StepSummary& sum);
 	/** Adds the landmark of a first reading, initialised from it at pose step k. */
 	Landmark& add_landmark(std::int32_t id, const Observation& o);
 	/** Map policy: landmark `id` (in the map, not in the state) re-enters as a world point at its map

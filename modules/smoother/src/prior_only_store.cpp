@@ -193,16 +193,10 @@ void PriorOnlyStore::compact_if_sparse()
 	free_.clear();
 }
 
-void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::vector<VariableId>& vars,
-							double threshold)
+PriorOnlyStore::PriorSplit PriorOnlyStore::split_prior(const Problem& problem, const MarginalPrior& prior,
+														const std::vector<VariableId>& vars)
 {
-	if (vars.empty()) return;
-	// The prior's columns of the leaving variables (l) and of the others (a).
-	std::vector<int> lcols, acols;
-	std::vector<VariableId> avars;
-	std::vector<int> adims;
-	std::vector<std::vector<double>> alin;
-	std::vector<Member> joining;
+	PriorSplit sp;
 	const auto& pvars = prior.variables();
 	int off = 0;
 	for (std::size_t i = 0; i < pvars.size(); i++)
@@ -210,31 +204,40 @@ void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::v
 		const auto& var = problem.variable(pvars[i]);
 		const int n = var.manifold->tangent_size();
 		const bool leaving = std::find(vars.begin(), vars.end(), pvars[i]) != vars.end();
-		for (int c = 0; c < n; c++) (leaving ? lcols : acols).push_back(off + c);
+		for (int c = 0; c < n; c++) (leaving ? sp.lcols : sp.acols).push_back(off + c);
 		if (leaving)
-			joining.push_back({pvars[i], -1, n, prior.linearization_points()[i], var.manifold});
+			sp.joining.push_back({pvars[i], -1, n, prior.linearization_points()[i], var.manifold});
 		else
 		{
-			avars.push_back(pvars[i]);
-			adims.push_back(n);
-			alin.push_back(prior.linearization_points()[i]);
+			sp.avars.push_back(pvars[i]);
+			sp.adims.push_back(n);
+			sp.alin.push_back(prior.linearization_points()[i]);
 		}
 		off += n;
 	}
-	if (joining.size() != vars.size()) throw std::invalid_argument("PriorOnlyStore::absorb: variable not in the prior");
+	if (sp.joining.size() != vars.size()) throw std::invalid_argument("PriorOnlyStore::absorb: variable not in the prior");
+	return sp;
+}
+
+void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::vector<VariableId>& vars,
+							double threshold)
+{
+	if (vars.empty()) return;
+	// The prior's columns of the leaving variables (l) and of the others (a).
+	PriorSplit sp = split_prior(problem, prior, vars);
 	const Eigen::MatrixXd H = prior.has_information() ? prior.H() : Eigen::MatrixXd(prior.J().transpose() * prior.J());
 	const Eigen::VectorXd b = prior.has_information() ? prior.b() : Eigen::VectorXd(-(prior.J().transpose() * prior.e()));
-	PartitionedNormalEquations s = partition_normal_equations(H, b, lcols, acols);
+	PartitionedNormalEquations s = partition_normal_equations(H, b, sp.lcols, sp.acols);
 	GaussianElimination c = swba::eliminate(std::move(s), threshold, true);
-	Eigen::MatrixXd C_ll = 0.5 * (c.conditional.covariance + c.conditional.covariance.transpose());
+	const Eigen::MatrixXd C_ll = 0.5 * (c.conditional.covariance + c.conditional.covariance.transpose());
 
 	// Rows for the joining variables, then the stored rows' dependence on them, K_pl (zero in new rows).
-	for (auto& m : joining) m.offset = allocate(m.dim);
-	const Eigen::Index n = used_, nl = static_cast<Eigen::Index>(lcols.size());
+	for (auto& m : sp.joining) m.offset = allocate(m.dim);
+	const Eigen::Index n = used_, nl = static_cast<Eigen::Index>(sp.lcols.size());
 	Eigen::MatrixXd K_pl = Eigen::MatrixXd::Zero(n, nl);
 	{
 		Eigen::Index c0 = 0;
-		for (const auto& m : joining)
+		for (const auto& m : sp.joining)
 		{
 			auto it = K_.find(m.var);
 			if (it != K_.end())
@@ -245,21 +248,40 @@ void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::v
 			c0 += m.dim;
 		}
 	}
-	// Substitute d_l = k_l − K_la d_a + ε_l in the stored rows, then write l's own rows.
-	k_.head(n).noalias() -= K_pl * c.conditional.k;
-	for (std::size_t i = 0, c0 = 0; i < avars.size(); c0 += static_cast<std::size_t>(adims[i]), i++)
+	substitute_joining(sp, K_pl, c.conditional);
+	write_joining(sp.joining, K_pl, C_ll, c.conditional.k);
+	for (auto& m : sp.joining)
 	{
-		const Eigen::MatrixXd K_la = c.conditional.K.middleCols(static_cast<Eigen::Index>(c0), adims[i]);
-		auto it = K_.find(avars[i]);
-		if (it == K_.end()) it = K_.emplace(avars[i], Eigen::MatrixXd::Zero(k_.size(), adims[i])).first;
+		problem.set_constant(m.var, true);
+		members_.push_back(std::move(m));
+	}
+	prior.assign(problem, std::move(sp.avars), std::move(c.marginal), std::move(sp.alin));
+}
+
+void PriorOnlyStore::substitute_joining(const PriorSplit& sp, const Eigen::MatrixXd& K_pl, const GaussianConditional& c)
+{
+	// Substitute d_l = k_l − K_la d_a + ε_l in the stored rows, then write l's own rows of K.
+	const Eigen::Index n = used_;
+	k_.head(n).noalias() -= K_pl * c.k;
+	for (std::size_t i = 0, c0 = 0; i < sp.avars.size(); c0 += static_cast<std::size_t>(sp.adims[i]), i++)
+	{
+		const Eigen::MatrixXd K_la = c.K.middleCols(static_cast<Eigen::Index>(c0), sp.adims[i]);
+		auto it = K_.find(sp.avars[i]);
+		if (it == K_.end()) it = K_.emplace(sp.avars[i], Eigen::MatrixXd::Zero(k_.size(), sp.adims[i])).first;
 		it->second.topRows(n).noalias() -= K_pl * K_la;
 		Eigen::Index r0 = 0;
-		for (const auto& m : joining)
+		for (const auto& m : sp.joining)
 		{
 			it->second.middleRows(m.offset, m.dim) = K_la.middleRows(r0, m.dim);
 			r0 += m.dim;
 		}
 	}
+}
+
+void PriorOnlyStore::write_joining(const std::vector<Member>& joining, const Eigen::MatrixXd& K_pl,
+								   const Eigen::MatrixXd& C_ll, const Eigen::VectorXd& k_l)
+{
+	const Eigen::Index n = used_;
 	const Eigen::MatrixXd KC = K_pl * C_ll;
 	add_update(K_pl * psd_factor(C_ll), 1.0);
 	// l's rows: k_l, the cross-covariance −K_pl C_ll with every stored row (its row and its column, so
@@ -267,7 +289,7 @@ void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::v
 	for (Eigen::Index i = 0, r0 = 0; i < static_cast<Eigen::Index>(joining.size()); r0 += joining[i].dim, i++)
 	{
 		const Member& m = joining[static_cast<std::size_t>(i)];
-		k_.segment(m.offset, m.dim) = c.conditional.k.segment(r0, m.dim);
+		k_.segment(m.offset, m.dim) = k_l.segment(r0, m.dim);
 		C_.middleCols(m.offset, m.dim).topRows(n) = -KC.middleCols(r0, m.dim);
 		C_.middleRows(m.offset, m.dim).leftCols(n) = -KC.middleCols(r0, m.dim).transpose();
 	}
@@ -277,19 +299,13 @@ void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::v
 			const Member &m = joining[static_cast<std::size_t>(i)], &q = joining[static_cast<std::size_t>(j)];
 			C_.block(m.offset, q.offset, m.dim, q.dim) = C_ll.block(r0, s0, m.dim, q.dim);
 		}
-	for (auto& m : joining)
-	{
-		problem.set_constant(m.var, true);
-		members_.push_back(std::move(m));
-	}
-	prior.assign(problem, std::move(avars), std::move(c.marginal), std::move(alin));
 }
 
 void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::vector<VariableId>& vars)
 {
 	if (vars.empty()) return;
 	const std::vector<int> lrows = rows_of(vars);
-	const Eigen::Index n = used_, nl = static_cast<Eigen::Index>(lrows.size());
+	const Eigen::Index nl = static_cast<Eigen::Index>(lrows.size());
 	const Eigen::MatrixXd C_pl = covariance_columns(lrows);  // all stored rows, l's own included
 	const Eigen::MatrixXd C_ll = gather_rows(C_pl, lrows);
 	const Eigen::LLT<Eigen::MatrixXd> llt(C_ll);
@@ -339,6 +355,16 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 		return;
 	}
 
+	condition_on_released(problem, vars, lrows, C_pl, llt, k_l);
+	remove_members(vars);
+	prior.append_rows(problem, vars, x_lin, J_rows, e_rows);
+}
+
+void PriorOnlyStore::condition_on_released(const Problem& problem, const std::vector<VariableId>& vars,
+										   const std::vector<int>& lrows, const Eigen::MatrixXd& C_pl,
+										   const Eigen::LLT<Eigen::MatrixXd>& llt, const Eigen::VectorXd& k_l)
+{
+	const Eigen::Index n = used_;
 	// The others conditioned on l as well (their mean at l's mean is unchanged): G = C_pl C_ll⁻¹,
 	// k_p −= G k_l, K_p −= G K_l, K_pl = −G, C_pp −= G C_lp = W Wᵀ with W = C_pl L⁻ᵀ (l's own rows,
 	// garbage, are freed below).
@@ -362,6 +388,10 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 		}
 	}
 	add_update(Wt.transpose(), -1.0);
+}
+
+void PriorOnlyStore::remove_members(const std::vector<VariableId>& vars)
+{
 	for (VariableId v : vars)
 	{
 		auto it = std::find_if(members_.begin(), members_.end(), [v](const Member& m) { return m.var == v; });
@@ -376,7 +406,6 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 		free_.erase(last);
 	}
 	compact_if_sparse();
-	prior.append_rows(problem, vars, x_lin, J_rows, e_rows);
 }
 
 void PriorOnlyStore::eliminate(const std::vector<VariableId>& marg, const std::vector<int>& marg_dims,

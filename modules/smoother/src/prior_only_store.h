@@ -29,6 +29,7 @@
 #include <swba/nonlinear/problem.h>
 #include <swba/smoother/marginal_prior.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <map>
 #include <memory>
@@ -86,6 +87,29 @@ class PriorOnlyStore
 		std::vector<double> x_lin;
 		std::shared_ptr<const Manifold> manifold;
 	};
+	/** absorb(): the prior's variables split into those joining the store (l) and the others (a). */
+	struct PriorSplit
+	{
+		std::vector<int> lcols, acols;  ///< scalar columns of l and of a in the prior
+		std::vector<VariableId> avars;
+		std::vector<int> adims;
+		std::vector<std::vector<double>> alin;
+		std::vector<Member> joining;
+	};
+	static PriorSplit split_prior(const Problem& problem, const MarginalPrior& prior, const std::vector<VariableId>& vars);
+	/** absorb(): the stored rows (dependence K_pl on l) conditioned on a through l's conditional `c`,
+	 * and l's own rows of K. */
+	void substitute_joining(const PriorSplit& sp, const Eigen::MatrixXd& K_pl, const GaussianConditional& c);
+	/** absorb(): l's mean, its covariance C_ll and its cross-covariance with the stored rows. */
+	void write_joining(const std::vector<Member>& joining, const Eigen::MatrixXd& K_pl, const Eigen::MatrixXd& C_ll,
+					   const Eigen::VectorXd& k_l);
+	/** release(): the other stored rows conditioned on the released variables (rows `lrows`, their
+	 * columns C_pl of C, C_ll = L Lᵀ in `llt`, mean k_l). */
+	void condition_on_released(const Problem& problem, const std::vector<VariableId>& vars, const std::vector<int>& lrows,
+							   const Eigen::MatrixXd& C_pl, const Eigen::LLT<Eigen::MatrixXd>& llt,
+							   const Eigen::VectorXd& k_l);
+	/** release(): frees the rows of the released members. */
+	void remove_members(const std::vector<VariableId>& vars);
 	/** Rows of the members `vars`, in their order. */
 	std::vector<int> rows_of(const std::vector<VariableId>& vars) const;
 	/** Rows for a new member of `dim`: a free slot of that size, else appended (storage grows). */
