@@ -12,7 +12,7 @@
  * factors beyond the re-linearised window are frozen at their linearisation (iSAM's square-root
  * information smoother without relinearisation of the old part). Cost per step: one product of each
  * conditional's K with its separator's offset, O(dim M · dim S).
- * A change of variables in the prior (an inverse-depth landmark switched to world XYZ) rewrites the
+ * A change of variables in the prior (VariableChange, e.g. a re-parameterised point) rewrites the
  * columns of every conditional that holds the old variable, as it rewrites the prior's. */
 #pragma once
 

@@ -14,6 +14,24 @@ int MarginalPrior::index_of(VariableId v) const
 	return it == vars_.end() ? -1 : static_cast<int>(it - vars_.begin());
 }
 
+MarginalPrior::Partition MarginalPrior::partition(const Problem& problem,
+												  const std::function<bool(VariableId)>& in_first) const
+{
+	Partition p;
+	int off = 0;
+	for (std::size_t i = 0; i < vars_.size(); i++)
+	{
+		const int n = problem.variable(vars_[i]).manifold->tangent_size();
+		const bool first = in_first(vars_[i]);
+		(first ? p.first : p.second).push_back(i);
+		for (int c = 0; c < n; c++) (first ? p.first_columns : p.second_columns).push_back(off + c);
+		off += n;
+	}
+	const Eigen::Index cols = has_information_ ? H_.cols() : J_.cols();
+	if (off != cols) throw std::invalid_argument("MarginalPrior::partition: the prior's size and variables disagree");
+	return p;
+}
+
 int MarginalPrior::column_of(const Problem& problem, int index) const
 {
 	int off = 0;

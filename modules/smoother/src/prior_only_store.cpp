@@ -196,26 +196,24 @@ void PriorOnlyStore::compact_if_sparse()
 PriorOnlyStore::PriorSplit PriorOnlyStore::split_prior(const Problem& problem, const MarginalPrior& prior,
 														const std::vector<VariableId>& vars)
 {
-	PriorSplit sp;
 	const auto& pvars = prior.variables();
-	int off = 0;
-	for (std::size_t i = 0; i < pvars.size(); i++)
+	MarginalPrior::Partition part = prior.partition(
+		problem, [&](VariableId v) { return std::find(vars.begin(), vars.end(), v) != vars.end(); });
+	PriorSplit sp;
+	for (std::size_t i : part.first)
 	{
 		const auto& var = problem.variable(pvars[i]);
-		const int n = var.manifold->tangent_size();
-		const bool leaving = std::find(vars.begin(), vars.end(), pvars[i]) != vars.end();
-		for (int c = 0; c < n; c++) (leaving ? sp.lcols : sp.acols).push_back(off + c);
-		if (leaving)
-			sp.joining.push_back({pvars[i], -1, n, prior.linearization_points()[i], var.manifold});
-		else
-		{
-			sp.avars.push_back(pvars[i]);
-			sp.adims.push_back(n);
-			sp.alin.push_back(prior.linearization_points()[i]);
-		}
-		off += n;
+		sp.joining.push_back({pvars[i], -1, var.manifold->tangent_size(), prior.linearization_points()[i], var.manifold});
+	}
+	for (std::size_t i : part.second)
+	{
+		sp.avars.push_back(pvars[i]);
+		sp.adims.push_back(problem.variable(pvars[i]).manifold->tangent_size());
+		sp.alin.push_back(prior.linearization_points()[i]);
 	}
 	if (sp.joining.size() != vars.size()) throw std::invalid_argument("PriorOnlyStore::absorb: variable not in the prior");
+	sp.lcols = std::move(part.first_columns);
+	sp.acols = std::move(part.second_columns);
 	return sp;
 }
 

@@ -3,8 +3,8 @@
  * their Gaussian conditional given the prior's other variables, updated step by step instead of
  * re-eliminated at every solve.
  *
- * With the SLAM policy every landmark ever seen stays in the prior, but a landmark no window pose
- * observes is connected to nothing else. Split the prior's variables into those (p, "prior-only") and
+ * An estimator that keeps every variable it ever estimated (a SLAM map) leaves many of them connected
+ * to nothing but the prior once no state of the window relates to them. Split the prior's variables into those (p, "prior-only") and
  * the others (a, "active"); in the prior's coordinates d = x ⊟ x_lin the prior is exactly
  *     p(d_a, d_p) = N(d_a; prior over a) · N(d_p; k − K d_a, C),
  * the marginal over a (what the window's solve needs, in the MarginalPrior) times the conditional of p
@@ -15,13 +15,14 @@
  *   - absorb(): an active variable that lost its last factor but the prior leaves a, conditioned on the
  *     rest from the prior's information (H_ll⁻¹ b_l, H_ll⁻¹ H_la, H_ll⁻¹), and the prior keeps its
  *     marginal;
- *   - release(): a variable that gained a factor (a returning landmark) goes back: the prior is
+ *   - release(): a variable that gained a factor (e.g. observed again) goes back: the prior is
  *     multiplied by its conditional N(d_l; k_l − K_l d_a, C_ll), and the other prior-only variables are
  *     conditioned on it (C ← C − C_pl C_ll⁻¹ C_lp);
  *   - change_active(): a change of variables in the prior rewrites K's columns as it rewrites J's.
  * Each costs O(|p|² · its rank) at most, where re-eliminating p from the whole prior at every step cost
- * O(|p|³): the window's cost per step no longer grows with the map's cube. The split is exact (same
- * Gaussian, rounding aside), so the estimates are those of keeping every landmark in the prior.
+ * O(|p|³): the window's cost per step no longer grows with the cube of the prior-only dimension. The
+ * split is exact (same Gaussian, rounding aside), so the estimates are those of keeping them all in the
+ * prior.
  * K is kept by active variable (a block of columns each), so the prior may reorder its variables. */
 #pragma once
 
@@ -132,7 +133,7 @@ class PriorOnlyStore
 	static constexpr int kMaxPending = 24;
 
 	// Rows [0, used_) of k, K and C are members' rows or free slots (zero); storage may be larger, so
-	// that a landmark joining or leaving costs no copy of C (updates are in place, O(used²) per rank).
+	// that a variable joining or leaving costs no copy of C (updates are in place, O(used²) per rank).
 	std::vector<Member> members_;
 	std::vector<std::pair<int, int>> free_;  ///< (offset, dim) of free slots below used_
 	int used_ = 0;

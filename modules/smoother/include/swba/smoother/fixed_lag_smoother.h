@@ -4,8 +4,8 @@
  * standing for everything marginalised, first-estimate Jacobians that keep the prior and the factors
  * linearised at one point per state, and a linear tail of states no longer re-linearised. What a state
  * is, which variables leave with the oldest state and how measurements become factors is the caller's
- * business, told through a SmootherClient (e.g. swba/estimators/sliding_window.h for range-bearing
- * SLAM, inertial_window.h for visual-inertial keyframes).
+ * business, told through a SmootherClient (e.g. swba/estimators/sliding_window.h,
+ * inertial_window.h, or tests/smoother/test_constant_velocity_chain.cpp for a minimal one).
  *
  * One step: add the new state's variables (problem()), add_state(), add_factor() for its factors, then
  * update(client): one LM solve, the client's hooks, and, when the re-linearised states exceed
@@ -46,7 +46,7 @@ class LinearTail;
 struct TailConditional;
 }
 
-/** How a variable is handled while the marginal prior is the only factor touching it (e.g. a landmark
+/** How a variable is handled while the marginal prior is the only factor touching it (e.g. a map point
  * no state of the window observes any more). Each is exact (the same Gaussian); they differ in cost. */
 enum class PriorOnly
 {
@@ -99,7 +99,7 @@ struct MarginalizationSummary
 {
 	std::set<FactorId> removed;  ///< the factors replaced by the new prior
 	/** Of these, factors that could not be evaluated at the current values (their residual is undefined
-	 * there, e.g. a landmark behind its anchor): left out of the new prior, their information is lost. */
+	 * there, e.g. a point behind the camera): left out of the new prior, their information is lost. */
 	int unevaluable_factors = 0;
 };
 

@@ -10,6 +10,7 @@
 #include <swba/nonlinear/problem.h>
 
 #include <Eigen/Core>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -60,6 +61,16 @@ class MarginalPrior
 	/** Rows of J (0: no prior). */
 	int rank() const { return static_cast<int>(J_.rows()); }
 
+	/** The prior's variables split in two by a predicate: their positions in variables() and their
+	 * scalar columns in J, each part in the prior's order. */
+	struct Partition
+	{
+		std::vector<std::size_t> first, second;
+		std::vector<int> first_columns, second_columns;
+	};
+	/** Splits the variables by `in_first` (tangent sizes from `problem`). Throws std::invalid_argument
+	 * when their sizes and J's columns disagree. */
+	Partition partition(const Problem& problem, const std::function<bool(VariableId)>& in_first) const;
 	/** Position of `v` in variables(), −1 if it is not in the prior. O(variables). */
 	int index_of(VariableId v) const;
 	/** First column of variable `index` in J (tangent sizes from the problem). */
