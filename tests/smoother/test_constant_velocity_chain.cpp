@@ -131,15 +131,15 @@ struct ChainEstimator : SmootherClient
 	}
 };
 
-constexpr int kSteps = 40;
+constexpr int kChainSteps = 40;
 
-/** The batch solution of all kSteps steps: [p, v] per step. */
+/** The batch solution of all kChainSteps steps: [p, v] per step. */
 std::vector<Eigen::Vector2d> batch_solution()
 {
 	FixedLagSmootherOptions o;
 	o.first_estimate_jacobians = false;
 	ChainEstimator batch(o);
-	for (int k = 0; k < kSteps; k++) batch.add_step(k);
+	for (int k = 0; k < kChainSteps; k++) batch.add_step(k);
 	solve(batch.sm.problem(), tight());
 	std::vector<Eigen::Vector2d> out;
 	for (VariableId v : batch.x) out.emplace_back(Eigen::Map<const Eigen::Vector2d>(batch.sm.problem().value(v)));
@@ -160,13 +160,13 @@ TEST_P(ConstantVelocityChain, WindowEstimatesEqualTheBatchSolutionAfterMarginali
 	o.relinearized = 4;
 	o.solver = tight();
 	ChainEstimator est(o);
-	for (int k = 0; k < kSteps; k++)
+	for (int k = 0; k < kChainSteps; k++)
 	{
 		est.add_step(k);
 		est.sm.update(est);
 	}
-	ASSERT_EQ(est.lagged.size(), static_cast<std::size_t>(kSteps - 4 - GetParam()));
-	EXPECT_EQ(est.lagged.back().time, (kSteps - 5 - GetParam()) * kDt);
+	ASSERT_EQ(est.lagged.size(), static_cast<std::size_t>(kChainSteps - 4 - GetParam()));
+	EXPECT_EQ(est.lagged.back().time, (kChainSteps - 5 - GetParam()) * kDt);
 	EXPECT_GT(est.sm.prior().rank(), 0);
 	const std::vector<Eigen::Vector2d> batch = batch_solution();
 	const auto index_of = [&](VariableId v) {
