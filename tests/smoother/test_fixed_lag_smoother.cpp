@@ -1,11 +1,12 @@
 // FixedLagSmoother on linear-Gaussian problems, where marginalisation is exact: the fixed-lag estimate
 // of the states still in the window, and their information, must equal the batch solution's. Runs the
-// smoother's own machinery (update(), marginalize_oldest(), the stored MarginalPrior and its factor).
+// smoother's own machinery (update() with its marginalisation, the stored MarginalPrior and its factor).
 #include <gtest/gtest.h>
 #include "support/dense_linearization.h"
 #include <swba/smoother/fixed_lag_smoother.h>
 
 #include "linear_gaussian.h"
+#include "smoother_test_client.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -41,25 +42,26 @@ Chain make_chain(int n)
 }
 
 /** Options that converge each update() to rounding (the problems are linear). */
-FixedLagSmootherOptions tight_options(int lag, int linear_lag = 0)
+FixedLagSmootherOptions tight_options(int relinearized, int tail = 0)
 {
 	FixedLagSmootherOptions opt;
-	opt.lag = lag;
-	opt.linear_lag = linear_lag;
+	opt.window = relinearized + tail;
+	opt.relinearized = relinearized;
 	opt.solver.max_iterations = 50;
 	opt.solver.function_tolerance = opt.solver.gradient_tolerance = opt.solver.parameter_tolerance = 1e-14;
 	return opt;
 }
 
-/** Adds state j of the chain with its factors to `sm` (x: the states so far) and solves. */
-void add_chain_state(FixedLagSmoother& sm, const Chain& c, std::vector<VariableId>& x, int j)
+/** Adds state j of the chain with its factors to `sm` (x: the states so far) and updates it. */
+void add_chain_state(FixedLagSmoother& sm, const Chain& c, std::vector<VariableId>& x, int j,
+					 test::RecordingClient& client)
 {
 	x.push_back(sm.problem().add_variable(c.guess[j], euclidean_manifold(2)));
 	sm.add_state(j, x.back());
 	if (j == 0) sm.add_factor(c.prior, {x[0]});
 	for (const auto& [ij, f] : c.factors)
 		if (ij.second == j) sm.add_factor(f, {x[ij.first], x[j]});
-	sm.update([](VariableId) { return false; });
+	sm.update(client);
 }
 }  // namespace
 
@@ -82,20 +84,13 @@ TEST(FixedLagSmoother, LinearGaussianChainEqualsBatchAfterMarginalising)
 	}();
 	const Eigen::MatrixXd cov_batch = full.H.inverse();
 
-	// The smoother: one state at a time, update(), marginalise the oldest while over the lag.
+	// The smoother: one state at a time, update() (which marginalises the oldest once over the window).
 	FixedLagSmoother sm(tight_options(lag));
+	test::RecordingClient client;
 	std::vector<VariableId> x;
-	int marginalised = 0;
-	for (int j = 0; j < n; j++)
-	{
-		add_chain_state(sm, c, x, j);
-		while (sm.over_lag())
-		{
-			sm.marginalize_oldest({});
-			marginalised++;
-		}
-	}
-	ASSERT_EQ(marginalised, n - lag);
+	for (int j = 0; j < n; j++) add_chain_state(sm, c, x, j, client);
+	ASSERT_EQ(client.marginalizations.size(), static_cast<std::size_t>(n - lag));
+	ASSERT_EQ(client.left_states.size(), static_cast<std::size_t>(n - lag));
 	ASSERT_TRUE(sm.prior().installed());
 
 	// The states left in the window: the batch estimate, and the batch's marginal covariance.
@@ -116,21 +111,21 @@ TEST(FixedLagSmoother, LinearGaussianChainEqualsBatchAfterMarginalising)
 	EXPECT_LT(reduced.b.norm(), 1e-6);
 }
 
-// The linear tail: with lag 2 and linear_lag 4, the states that left the window are smoothed by
+// The linear tail: 2 re-linearised states and a tail of 4: the states that left them are smoothed by
 // back-substitution of the conditionals they left with. On a linear-Gaussian chain (loops two states
 // back, so a separator holds two states) every smoothed state must be the batch estimate of the
-// history so far, at every step, and a state leaves the tail at lag 6 with that estimate.
+// history so far, at every step, and a state leaves the smoother at the window (6) with that estimate.
 TEST(FixedLagSmoother, LinearTailStatesAreTheBatchEstimatesOfTheHistorySoFar)
 {
-	const int n = 12, lag = 2, linear_lag = 4;
+	const int n = 12, relinearized = 2, tail = 4;
 	const Chain c = make_chain(n);
-	const FixedLagSmootherOptions opt = tight_options(lag, linear_lag);
+	const FixedLagSmootherOptions opt = tight_options(relinearized, tail);
 	FixedLagSmoother sm(opt);
+	test::RecordingClient client;
 	std::vector<VariableId> x;
-	int left = 0;
 	for (int j = 0; j < n; j++)
 	{
-		add_chain_state(sm, c, x, j);
+		add_chain_state(sm, c, x, j, client);
 
 		// The batch of states 0 … j.
 		Problem batch;
@@ -149,18 +144,17 @@ TEST(FixedLagSmoother, LinearTailStatesAreTheBatchEstimatesOfTheHistorySoFar)
 			EXPECT_LT((Eigen::Map<const Eigen::Vector2d>(s.value.data()) - batch_at(s.time)).norm(), 1e-9)
 				<< "state " << s.time << " at step " << j;
 
-		while (sm.over_lag()) sm.marginalize_oldest({});
-		while (sm.linear_over_lag())
+		// A state leaves the smoother at the window (relinearized + tail) with the estimate it had.
+		if (j >= relinearized + tail)
 		{
-			const LinearState s = sm.pop_oldest_linear();
-			EXPECT_EQ(s.time, j - lag - linear_lag);
+			ASSERT_EQ(client.left_states.size(), static_cast<std::size_t>(j + 1 - relinearized - tail));
+			const LinearState& s = client.left_states.back();
+			EXPECT_EQ(s.time, j - relinearized - tail);
 			EXPECT_LT((Eigen::Map<const Eigen::Vector2d>(s.value.data()) - batch_at(s.time)).norm(), 1e-9);
-			left++;
 		}
-		EXPECT_EQ(sm.linear_states().size(), static_cast<std::size_t>(std::clamp(j + 1 - lag, 0, linear_lag)));
+		EXPECT_EQ(sm.linear_states().size(), static_cast<std::size_t>(std::clamp(j + 1 - relinearized, 0, tail)));
 	}
-	EXPECT_EQ(left, n - lag - linear_lag);
-	EXPECT_THROW(FixedLagSmoother(opt).pop_oldest_linear(), std::logic_error);
+	EXPECT_EQ(client.left_states.size(), static_cast<std::size_t>(n - relinearized - tail));
 }
 
 namespace
@@ -219,6 +213,7 @@ TEST_P(LinearTailChange, FollowsAChangeOfVariablesOfThePrior)
 	FixedLagSmootherOptions opt = tight_options(2, 4);
 	opt.first_estimate_jacobians = GetParam();
 	FixedLagSmoother ref(opt), changed(opt);
+	test::RecordingClient client;
 	std::vector<VariableId> xr, xc;
 	const Eigen::Vector3d l0(2.5, 0.0, 1.0);
 	const VariableId lr = ref.problem().add_variable(l0, euclidean_manifold(3));
@@ -227,9 +222,9 @@ TEST_P(LinearTailChange, FollowsAChangeOfVariablesOfThePrior)
 	const VariableId mr = ref.problem().add_variable(m0, euclidean_manifold(3));
 	const VariableId mc = changed.problem().add_variable(m0, euclidean_manifold(3));
 	const Eigen::Matrix3d D = Eigen::Vector3d(1.0, 2.0, 0.5).asDiagonal();
-	VariableChange::PointJacobian H_new;
+	Eigen::Matrix3d H_new;
 	H_new << 1.0, 0.2, 0.0, -0.1, 1.0, 0.3, 0.0, 0.1, 0.8;
-	VariableChange::PoseJacobian H_y = VariableChange::PoseJacobian::Zero();
+	Eigen::Matrix<double, 3, 6> H_y = Eigen::Matrix<double, 3, 6>::Zero();
 	H_y(0, 0) = 0.5;
 	H_y(1, 4) = -0.25;
 	H_y(2, 2) = 0.1;
@@ -247,28 +242,29 @@ TEST_P(LinearTailChange, FollowsAChangeOfVariablesOfThePrior)
 			if (t > 0) sm->add_factor(run.odometry(t), {x[t - 1], x[t]});
 			if (t <= LandmarkRun::kLastObservation) sm->add_factor(run.observation(t), {x[t], l});
 			sm->add_factor(run.observation(3 * t + 1), {x[t], sm == &ref ? mr : mc});
-			sm->update([](VariableId) { return false; });
+			sm->update(client);
 		}
 		if (t == change_at)
 		{
 			// l = A l' + B y with y the newest state, around the prior's points: l_lin = A l'_lin + B y_lin.
 			ASSERT_TRUE(changed.prior().index_of(lc) >= 0);
 			const VariableId y = xc[t];
-			const int iy = changed.include_in_prior(y);
-			const auto& lin = changed.prior().linearization_points();
-			const Eigen::Map<const Eigen::Vector3d> l_lin(lin[changed.prior().index_of(lc)].data());
-			const Eigen::Map<const Eigen::Matrix<double, 6, 1>> y_lin(lin[iy].data());
-			const Eigen::Vector3d lp_lin = A.lu().solve(l_lin - D * H_y * y_lin);
 			const Eigen::Vector3d l_now = Eigen::Map<const Eigen::Vector3d>(changed.problem().value(lc));
 			const Eigen::Map<const Eigen::Matrix<double, 6, 1>> y_now(changed.problem().value(y));
 			const Eigen::Vector3d lp_now = A.lu().solve(l_now - D * H_y * y_now);
 			const VariableId lp = changed.problem().add_variable(lp_now, euclidean_manifold(3));
-			const std::vector<double> lp_lin_v(lp_lin.data(), lp_lin.data() + 3);
-			changed.change_prior_variable({lc, lp, lp_lin_v, lp_lin_v, D, H_new, {{y, H_y}}});
-			changed.remove_variable(lc);
+			const bool applied = changed.change_prior_variable(lc, {y}, [&](const PriorPoints& lin) {
+				const Eigen::Map<const Eigen::Vector3d> l_lin(lin.old_lin.data());
+				const Eigen::Map<const Eigen::Matrix<double, 6, 1>> y_lin(lin.others_lin[0].data());
+				const Eigen::Vector3d lp_lin = A.lu().solve(l_lin - D * H_y * y_lin);
+				const std::vector<double> lp_lin_v(lp_lin.data(), lp_lin.data() + 3);
+				return VariableChange{lc, lp, lp_lin_v, lp_lin_v, D, H_new, {{y, H_y}}};
+			});
+			ASSERT_TRUE(applied);
+			changed.problem().remove_variable(lc);
 			lc = lp;
 			changes++;
-			changed.smooth_linear_states();
+			continue;  // the tail follows the change at the next update()
 		}
 		const auto a = ref.linear_states(), b = changed.linear_states();
 		ASSERT_EQ(a.size(), b.size());
@@ -278,11 +274,6 @@ TEST_P(LinearTailChange, FollowsAChangeOfVariablesOfThePrior)
 						  .norm(),
 					  1e-7)  // the two converge along different LM paths: ≈ 1e-9 apart; a wrong change is ≥ 1e-4 off
 				<< "state " << a[i].time << " at step " << t;
-		for (auto* sm : {&ref, &changed})
-		{
-			while (sm->over_lag()) sm->marginalize_oldest({});
-			while (sm->linear_over_lag()) sm->pop_oldest_linear();
-		}
 	}
 	EXPECT_EQ(changes, 1);
 	EXPECT_EQ(ref.linear_states().size(), 4u);
@@ -297,7 +288,7 @@ INSTANTIATE_TEST_SUITE_P(FixedLagSmoother, LinearTailChange, ::testing::Values(t
 TEST(FixedLagSmoother, MarginalisingTheMiddleOfAThreeStateChainGivesThePrintedPrior)
 {
 	FixedLagSmootherOptions opt;
-	opt.lag = 2;
+	opt.window = 2;
 	FixedLagSmoother sm(opt);
 	Problem& p = sm.problem();
 	const VariableId x2 = p.add_variable(Eigen::VectorXd::Constant(1, 0.3), euclidean_manifold(1));
@@ -323,8 +314,10 @@ TEST(FixedLagSmoother, MarginalisingTheMiddleOfAThreeStateChainGivesThePrintedPr
 	EXPECT_NEAR(before.H(1, 2), -11.1111, 5e-5);
 	EXPECT_NEAR(before.H(2, 2), 11.1111, 5e-5);
 
-	ASSERT_TRUE(sm.over_lag());
-	const MarginalizationSummary m = sm.marginalize_oldest({});
+	test::RecordingClient client;
+	const UpdateSummary u = sm.update(client);  // three states in a window of two: x2 leaves
+	ASSERT_TRUE(u.marginalization);
+	const MarginalizationSummary& m = *u.marginalization;
 	EXPECT_EQ(m.removed.size(), 3u);
 	EXPECT_EQ(m.unevaluable_factors, 0);
 	ASSERT_EQ(sm.prior().variables(), (std::vector<VariableId>{x1, x3}));
@@ -349,7 +342,7 @@ TEST(FixedLagSmoother, MarginalisationCountsFactorsItCannotEvaluate)
 		bool evaluate(const double* const*, double*, double* const*) const override { return false; }
 	};
 	FixedLagSmootherOptions opt;
-	opt.lag = 1 + 1;
+	opt.window = 1 + 1;
 	FixedLagSmoother sm(opt);
 	Problem& p = sm.problem();
 	std::vector<VariableId> x;
@@ -362,7 +355,10 @@ TEST(FixedLagSmoother, MarginalisationCountsFactorsItCannotEvaluate)
 												  std::vector<int>{1, 1});
 	sm.add_factor(f, {x[0], x[1]});
 	sm.add_factor(std::make_shared<Undefined>(), {x[0], x[2]});
-	const MarginalizationSummary m = sm.marginalize_oldest({});
+	test::RecordingClient client;
+	const UpdateSummary u = sm.update(client);
+	ASSERT_TRUE(u.marginalization);
+	const MarginalizationSummary& m = *u.marginalization;
 	EXPECT_EQ(m.removed.size(), 2u);
 	EXPECT_EQ(m.unevaluable_factors, 1);
 }
@@ -375,9 +371,10 @@ TEST(FixedLagSmoother, UpdateCovariancesAreTheExactMarginalsOfALinearGaussianCha
 	const int n = 9, lag = 3;
 	const Chain c = make_chain(n);
 	FixedLagSmootherOptions opt;
-	opt.lag = lag;
+	opt.window = lag;
 	opt.solver.max_iterations = 50;
 	FixedLagSmoother sm(opt);
+	test::RecordingClient client;
 	std::vector<VariableId> x;
 	double worst = 0;
 	for (int j = 0; j < n; j++)
@@ -389,7 +386,7 @@ TEST(FixedLagSmoother, UpdateCovariancesAreTheExactMarginalsOfALinearGaussianCha
 			if (ij.second == j) sm.add_factor(f, {x[ij.first], x[j]});
 		CovarianceRequest request;
 		request.groups = {{x[j]}, {sm.states().front().var}};
-		const UpdateSummary u = sm.update([](VariableId) { return false; }, request);
+		const UpdateSummary u = sm.update(client, request);
 		ASSERT_TRUE(u.covariance.ok) << u.covariance.message;
 		// The exact marginal: states 0..j with every factor so far.
 		Problem full;
@@ -404,7 +401,6 @@ TEST(FixedLagSmoother, UpdateCovariancesAreTheExactMarginalsOfALinearGaussianCha
 		const Eigen::MatrixXd want_old = cov.block(2 * oldest, 2 * oldest, 2, 2);
 		worst = std::max(worst, (u.covariance.blocks[0] - want_new).norm() / want_new.norm());
 		worst = std::max(worst, (u.covariance.blocks[1] - want_old).norm() / want_old.norm());
-		while (sm.over_lag()) sm.marginalize_oldest({});
 	}
 	EXPECT_LT(worst, 1e-9);
 }

@@ -67,12 +67,12 @@ TEST(MarginalPrior, InformationFollowsAddedVariablesAndChangeOfVariables)
 	c.new_x_lin = {0.2, 0.1, 0.4};
 	c.D = random_matrix(rng, 3, 3);
 	c.H_new = random_matrix(rng, 3, 3);
-	c.H_poses = {{a, random_matrix(rng, 3, 6)}, {b, random_matrix(rng, 3, 6)}};
+	c.H_others = {{a, random_matrix(rng, 3, 6)}, {b, random_matrix(rng, 3, 6)}};
 	const Eigen::MatrixXd J_before = prior.J();
 	prior.change_variable(problem, c);
 	const Eigen::MatrixXd J_old = J_before.middleCols(6, 3);
 	EXPECT_LT((prior.J().middleCols(6, 3) - J_old * c.D * c.H_new).norm(), 1e-12 * J_old.norm());
-	EXPECT_LT((prior.J().middleCols(9, 6) - J_old * c.D * c.H_poses[1].second).norm(), 1e-12 * J_old.norm());
+	EXPECT_LT((prior.J().middleCols(9, 6) - J_old * c.D * c.H_others[1].second).norm(), 1e-12 * J_old.norm());
 	EXPECT_EQ(prior.variables(), (std::vector<VariableId>{a, l2, b}));
 	EXPECT_EQ(prior.linearization_points()[1], c.new_x_lin);
 	expect_information_of_square_root(prior);

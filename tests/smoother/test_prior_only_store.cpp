@@ -1,4 +1,4 @@
-// FixedLagSmootherOptions::store_prior_only on a linear-Gaussian SLAM-like problem, where the fixed-lag
+// PriorOnly::Store on a linear-Gaussian SLAM-like problem, where the fixed-lag
 // estimate is exact: 2-D states in a chain and 2-D "landmarks" that each state observes by l − x = z.
 // Landmarks leave the window's view (stored as their conditional), some return (released into the
 // prior), one never does. At every step the window's states and every landmark (stored ones at their
@@ -9,6 +9,7 @@
 #include <swba/smoother/fixed_lag_smoother.h>
 
 #include "linear_gaussian.h"
+#include "smoother_test_client.h"
 
 #include <Eigen/Dense>
 #include <cstdio>
@@ -97,15 +98,15 @@ TEST(PriorOnlyStore, KeepsTheExactSolutionWhileLandmarksLeaveAndReturn)
 {
 	const Data d = make_data();
 	FixedLagSmootherOptions opt;
-	opt.lag = kLag;
-	opt.store_prior_only = true;
+	opt.window = kLag;
 	opt.solver.max_iterations = 50;
 	opt.solver.function_tolerance = opt.solver.gradient_tolerance = opt.solver.parameter_tolerance = 1e-15;
 	FixedLagSmoother sm(opt);
 	std::vector<VariableId> x;
 	std::map<int, VariableId> l;
 	std::set<VariableId> landmark_vars;
-	const auto is_landmark = [&](VariableId v) { return landmark_vars.count(v) > 0; };
+	test::RecordingClient client;
+	client.handling = [&](VariableId v) { return landmark_vars.count(v) > 0 ? PriorOnly::Store : PriorOnly::Keep; };
 	double worst = 0;
 	int max_stored = 0, returns = 0;
 	std::set<int> stored_before;
@@ -130,12 +131,12 @@ TEST(PriorOnlyStore, KeepsTheExactSolutionWhileLandmarksLeaveAndReturn)
 				if (stored_before.count(ji.second)) returns++;
 				sm.add_factor(f, {x[j], l[ji.second]});
 			}
-		const UpdateSummary u = sm.update(is_landmark);
+		const UpdateSummary u = sm.update(client);
 		ASSERT_TRUE(u.solver.is_solution_usable()) << "step " << j;
 		max_stored = std::max(max_stored, u.prior_only_eliminated);
 		stored_before.clear();
 		for (const auto& [i, v] : l)
-			if (sm.is_stored_prior_only(v)) stored_before.insert(i);
+			if (sm.in_prior(v) && sm.prior().index_of(v) < 0) stored_before.insert(i);
 
 		const Batch b = solve_batch(d, j);
 		for (const auto& s : sm.states())
@@ -149,7 +150,6 @@ TEST(PriorOnlyStore, KeepsTheExactSolutionWhileLandmarksLeaveAndReturn)
 			const Eigen::Vector2d li = Eigen::Map<const Eigen::Vector2d>(sm.problem().value(v));
 			worst = std::max(worst, (li - b.landmark.at(i)).norm());
 		}
-		while (sm.over_lag()) sm.marginalize_oldest({});
 	}
 	std::printf("[store] max |estimate − batch| %.2g over %d steps; up to %d landmarks stored, %d readings of "
 				"stored landmarks\n", worst, kStates, max_stored, returns);

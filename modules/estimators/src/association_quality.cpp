@@ -10,6 +10,18 @@
 
 namespace swba::estimators
 {
+namespace
+{
+/** Calls f(true ID, assigned ID) for every reading of `truth` (assigned −1 where `assigned` has none). */
+template <typename F>
+void for_each_reading(const ReadingIds& assigned, const ReadingIds& truth, F f)
+{
+	for (std::size_t k = 0; k < truth.size(); k++)
+		for (std::size_t i = 0; i < truth[k].size(); i++)
+			f(truth[k][i], k < assigned.size() && i < assigned[k].size() ? assigned[k][i] : -1);
+}
+}  // namespace
+
 AssociationQuality evaluate_association(const ReadingIds& assigned, const ReadingIds& truth)
 {
 	// Readings per estimated landmark, by true landmark.
@@ -17,17 +29,13 @@ AssociationQuality evaluate_association(const ReadingIds& assigned, const Readin
 	std::map<std::int32_t, std::size_t> size;
 	AssociationQuality q;
 	std::map<std::int32_t, bool> seen_true;
-	for (std::size_t k = 0; k < truth.size(); k++)
-		for (std::size_t i = 0; i < truth[k].size(); i++)
-		{
-			const std::int32_t t = truth[k][i];
-			const std::int32_t a = k < assigned.size() && i < assigned[k].size() ? assigned[k][i] : -1;
-			if (a >= 0) size[a]++;
-			if (t < 0) continue;
-			q.readings++;
-			seen_true[t] = true;
-			if (a >= 0) votes[a][t]++;
-		}
+	for_each_reading(assigned, truth, [&](std::int32_t t, std::int32_t a) {
+		if (a >= 0) size[a]++;
+		if (t < 0) return;
+		q.readings++;
+		seen_true[t] = true;
+		if (a >= 0) votes[a][t]++;
+	});
 	q.true_landmarks = seen_true.size();
 	std::map<std::int32_t, std::int32_t> stands_for;             // confirmed estimated → true
 	std::map<std::int32_t, std::pair<std::size_t, std::int32_t>> primary;  // true → (readings, estimated)
@@ -47,16 +55,12 @@ AssociationQuality evaluate_association(const ReadingIds& assigned, const Readin
 	}
 	for (const auto& [a, t] : stands_for)
 		if (primary.at(t).second != a) q.duplicates++;
-	for (std::size_t k = 0; k < truth.size(); k++)
-		for (std::size_t i = 0; i < truth[k].size(); i++)
-		{
-			const std::int32_t t = truth[k][i];
-			const std::int32_t a = k < assigned.size() && i < assigned[k].size() ? assigned[k][i] : -1;
-			if (t < 0 || a < 0 || !stands_for.count(a)) continue;
-			q.associated++;
-			const auto p = primary.find(t);
-			if (p != primary.end() && p->second.second == a) q.correct++;
-		}
+	for_each_reading(assigned, truth, [&](std::int32_t t, std::int32_t a) {
+		if (t < 0 || a < 0 || !stands_for.count(a)) return;
+		q.associated++;
+		const auto p = primary.find(t);
+		if (p != primary.end() && p->second.second == a) q.correct++;
+	});
 	return q;
 }
 

@@ -118,8 +118,8 @@ mrpt::poses::CPose3D make_pose(const NavState& x)
 	return SE3Manifold::to_pose(v);
 }
 
-/** The window's factor graph on the smoother. */
-class InertialGraph
+/** The window's factor graph on the smoother, and the smoother's client. */
+class InertialGraph : smoother::SmootherClient
 {
    public:
 	InertialGraph(const InertialWindowOptions& o, const InertialInput& in, int lag)
@@ -130,13 +130,11 @@ class InertialGraph
 	void add_first(const InertialInitialState& init, const KeyframeData& k);
 	/** Adds keyframe k; its initial value is the IMU prediction from the previous keyframe, or `guess`. */
 	void add_next(const KeyframeData& k, const std::optional<std::pair<NavState, Vector6d>>& guess = std::nullopt);
-	/** update(), the online record, then re-integration of the IMU factors whose bias moved. */
-	void update(InertialTrajectory& online);
-	bool over_lag() const { return sm_.over_lag(); }
-	/** Records the oldest keyframe in `lagged` and marginalises it. */
-	void marginalize_oldest(InertialTrajectory& lagged);
+	/** The smoother's update(): the online record, re-integration of the IMU factors whose bias moved,
+	 * and the oldest keyframe recorded in `lagged` and marginalised when the window is full. */
+	void update(InertialTrajectory& online, InertialTrajectory& lagged);
 	void record_all(InertialTrajectory& out) const;
-	Summary solve(const SolverOptions& s) { return sm_.solve(s); }
+	Summary solve(const SolverOptions& s) { return swba::solve(sm_.problem(), s); }
 	/** Re-integrates the IMU factors whose bias moved (after a solve). */
 	std::size_t reintegrate_moved()
 	{
@@ -159,7 +157,7 @@ class InertialGraph
 	static smoother::FixedLagSmootherOptions smoother_options(const InertialWindowOptions& o, int lag)
 	{
 		smoother::FixedLagSmootherOptions s;
-		s.lag = lag;
+		s.window = lag;
 		s.first_estimate_jacobians = o.first_estimate_jacobians;
 		s.solver = o.solver;
 		s.marginalization_threshold = o.marginalization_threshold;
@@ -170,6 +168,16 @@ class InertialGraph
 	void add_pose_prior(const Kf& k, const mrpt::poses::CPose3D& Z, const Matrix6d& covariance);
 	void record(InertialTrajectory& out, const Kf& k, const Matrix6d& covariance) const;
 	void reintegrate();
+	// SmootherClient: the oldest keyframe leaves with its velocity and biases.
+	void solved(const smoother::UpdateSummary& u) override;
+	std::set<VariableId> leaving(const smoother::TimedState&) override { return {kfs_.front().v, kfs_.front().b}; }
+	void left(const smoother::TimedState&, const std::vector<double>&) override
+	{
+		record(*lagged_, kfs_.front(), Matrix6d::Zero());
+	}
+	void marginalized(const smoother::TimedState&, const smoother::MarginalizationSummary&) override;
+	InertialTrajectory* online_ = nullptr;
+	InertialTrajectory* lagged_ = nullptr;
 
 	InertialWindowOptions o_;
 	const InertialInput& in_;
@@ -255,13 +263,19 @@ void InertialGraph::record(InertialTrajectory& out, const Kf& k, const Matrix6d&
 	out.pose_covariances.push_back(covariance);
 }
 
-void InertialGraph::update(InertialTrajectory& online)
+void InertialGraph::update(InertialTrajectory& online, InertialTrajectory& lagged)
 {
 	CovarianceRequest request;
 	if (o_.covariances) request.groups.push_back({kfs_.back().T});
-	const smoother::UpdateSummary u = sm_.update([](VariableId) { return false; }, request);
+	online_ = &online;
+	lagged_ = &lagged;
+	sm_.update(*this, request);
+}
+
+void InertialGraph::solved(const smoother::UpdateSummary& u)
+{
 	const bool ok = o_.covariances && u.covariance.ok && !u.covariance.blocks.empty();
-	record(online, kfs_.back(), ok ? Matrix6d(u.covariance.blocks[0]) : Matrix6d::Zero());
+	record(*online_, kfs_.back(), ok ? Matrix6d(u.covariance.blocks[0]) : Matrix6d::Zero());
 	reintegrate();
 }
 
@@ -282,10 +296,8 @@ void InertialGraph::reintegrate()
 	}
 }
 
-void InertialGraph::marginalize_oldest(InertialTrajectory& lagged)
+void InertialGraph::marginalized(const smoother::TimedState&, const smoother::MarginalizationSummary&)
 {
-	record(lagged, kfs_.front(), Matrix6d::Zero());
-	sm_.marginalize_oldest({kfs_.front().v, kfs_.front().b});
 	kfs_.pop_front();
 	kfs_.front().pim.reset();  // its IMU factor went into the prior
 	kfs_.front().imu = -1;
@@ -320,8 +332,7 @@ InertialWindowResult run_inertial_window(const InertialInput& in, const Inertial
 			g.add_first(init, kd[0]);
 		else
 			g.add_next(kd[i]);
-		g.update(r.online);
-		while (g.over_lag()) g.marginalize_oldest(r.lagged);
+		g.update(r.online, r.lagged);
 		r.seconds_per_keyframe.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 	}
 	g.record_all(r.lagged);

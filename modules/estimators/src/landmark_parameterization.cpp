@@ -11,6 +11,9 @@ namespace swba::estimators::detail
 namespace
 {
 using smoother::VariableChange;
+/** The range-bearing model's Jacobians as Factor::evaluate writes them (row-major). */
+using PoseJacobian = Eigen::Matrix<double, 3, 6, Eigen::RowMajor>;
+using PointJacobian = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 
 std::vector<double> to_vector(const Eigen::Vector3d& x) { return std::vector<double>(x.data(), x.data() + 3); }
 
@@ -36,24 +39,25 @@ void RangeBearingGraph::convert_to_world_xyz(Landmark& lm)
 	const Eigen::Vector3d p = inverse_depth_to_world(problem.value(va), poses_[a].sensor, lam);
 	const VariableId vp = problem.add_variable(p, euclidean_manifold(3), Group::Eliminable);
 
-	smoother_.activate(vl);  // a stored prior-only landmark changes variables among the active ones
-	const int ia = smoother_.include_in_prior(va);
-	const auto& x_lin = smoother_.prior().linearization_points();
-	const Eigen::Vector3d lam_lin = Eigen::Map<const Eigen::Vector3d>(x_lin[smoother_.prior().index_of(vl)].data());
-	const Eigen::Vector3d p_lin = inverse_depth_to_world(x_lin[ia].data(), poses_[a].sensor, lam_lin);
-	// Jacobians at the first estimates (or the current values without FEJ).
-	const double* Ta_f = smoother_.linearization_point(va);
-	const Eigen::Vector3d lam_f = Eigen::Map<const Eigen::Vector3d>(smoother_.linearization_point(vl));
-	const Eigen::Vector3d p_f = inverse_depth_to_world(Ta_f, poses_[a].sensor, lam_f);
-	const RangeBearingXyzFactor h_of({1.0, 0.0, 0.0}, poses_[a].sensor);
-	VariableChange::PoseJacobian Ha;
-	VariableChange::PointJacobian Hp;
-	Eigen::Matrix3d D;
-	const double* xs[2] = {Ta_f, p_f.data()};
-	double* js[2] = {Ha.data(), Hp.data()};
-	if (!inverse_depth_jacobian(h_of, xs, js, D))
-		throw std::runtime_error("landmark " + std::to_string(lm.id) + ": range-bearing model undefined at its anchor");
-	smoother_.change_prior_variable({vl, vp, to_vector(p_lin), to_vector(p_f), D, Hp, {{va, Ha}}});
+	const auto change = [&](const smoother::PriorPoints& lin) {
+		const Eigen::Vector3d lam_lin = Eigen::Map<const Eigen::Vector3d>(lin.old_lin.data());
+		const Eigen::Vector3d p_lin = inverse_depth_to_world(lin.others_lin[0].data(), poses_[a].sensor, lam_lin);
+		// Jacobians at the first estimates (or the current values without FEJ).
+		const double* Ta_f = smoother_.linearization_point(va);
+		const Eigen::Vector3d lam_f = Eigen::Map<const Eigen::Vector3d>(smoother_.linearization_point(vl));
+		const Eigen::Vector3d p_f = inverse_depth_to_world(Ta_f, poses_[a].sensor, lam_f);
+		const RangeBearingXyzFactor h_of({1.0, 0.0, 0.0}, poses_[a].sensor);
+		PoseJacobian Ha;
+		PointJacobian Hp;
+		Eigen::Matrix3d D;
+		const double* xs[2] = {Ta_f, p_f.data()};
+		double* js[2] = {Ha.data(), Hp.data()};
+		if (!inverse_depth_jacobian(h_of, xs, js, D))
+			throw std::runtime_error("landmark " + std::to_string(lm.id) + ": range-bearing model undefined at its anchor");
+		return VariableChange{vl, vp, to_vector(p_lin), to_vector(p_f), D, Hp, {{va, Ha}}};
+	};
+	if (!smoother_.change_prior_variable(vl, {va}, change))
+		throw std::logic_error("convert_to_world_xyz: landmark " + std::to_string(lm.id) + " is not in the prior");
 
 	lm.world_xyz = true;
 	replace_landmark_variable(lm, vp);
@@ -63,14 +67,12 @@ void RangeBearingGraph::reanchor(Landmark& lm, std::size_t b)
 {
 	Problem& problem = smoother_.problem();
 	const std::size_t a = lm.anchor_step;
-	const VariableId va = poses_[a].var, vb = poses_[b].var, vl = lm.var;
-	const auto& sa = poses_[a].sensor;
-	const auto& sb = poses_[b].sensor;
-	const Eigen::Vector3d lam = Eigen::Map<const Eigen::Vector3d>(problem.value(vl));
+	const Eigen::Vector3d lam = Eigen::Map<const Eigen::Vector3d>(problem.value(lm.var));
 	Eigen::Vector3d lam_new;
 	try
 	{
-		lam_new = reanchor_inverse_depth(problem.value(va), sa, problem.value(vb), sb, lam);
+		lam_new = reanchor_inverse_depth(problem.value(poses_[a].var), poses_[a].sensor, problem.value(poses_[b].var),
+										 poses_[b].sensor, lam);
 	}
 	catch (const std::invalid_argument& e)
 	{
@@ -78,30 +80,6 @@ void RangeBearingGraph::reanchor(Landmark& lm, std::size_t b)
 								 std::to_string(poses_[b].time) + ": " + e.what() + " (the estimate diverged)");
 	}
 	const VariableId vl2 = problem.add_variable(lam_new, euclidean_manifold(3), Group::Eliminable);
-
-	if (smoother_.in_prior(vl))
-	{
-		smoother_.activate(vl);
-		// λ = g(λ', T_b, T_a): λ is the new landmark seen from the old anchor's sensor, in inverse depth.
-		const int ia = smoother_.include_in_prior(va), ib = smoother_.include_in_prior(vb);
-		const auto& x_lin = smoother_.prior().linearization_points();
-		const Eigen::Vector3d lam_lin = Eigen::Map<const Eigen::Vector3d>(x_lin[smoother_.prior().index_of(vl)].data());
-		const Eigen::Vector3d lam2_lin = reanchor_inverse_depth(x_lin[ia].data(), sa, x_lin[ib].data(), sb, lam_lin);
-		// Jacobians at the first estimates (or the current values without FEJ).
-		const double* Ta_f = smoother_.linearization_point(va);
-		const double* Tb_f = smoother_.linearization_point(vb);
-		const Eigen::Vector3d lam_f = Eigen::Map<const Eigen::Vector3d>(smoother_.linearization_point(vl));
-		const Eigen::Vector3d lam2_f = reanchor_inverse_depth(Ta_f, sa, Tb_f, sb, lam_f);
-		const RangeBearingInverseDepthFactor h_of({1.0, 0.0, 0.0}, sa, sb);
-		VariableChange::PoseJacobian Ha, Hb;
-		VariableChange::PointJacobian Hl;
-		Eigen::Matrix3d D;
-		const double* xs[3] = {Tb_f, Ta_f, lam2_f.data()};
-		double* js[3] = {Hb.data(), Ha.data(), Hl.data()};
-		if (!inverse_depth_jacobian(h_of, xs, js, D))
-			throw std::runtime_error("re-anchoring landmark " + std::to_string(lm.id) + ": model undefined");
-		smoother_.change_prior_variable({vl, vl2, to_vector(lam2_lin), to_vector(lam2_f), D, Hl, {{va, Ha}, {vb, Hb}}});
-	}
 	lm.anchor_step = b;
 	replace_landmark_variable(lm, vl2);
 }

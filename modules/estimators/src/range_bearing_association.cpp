@@ -155,38 +155,45 @@ RangeBearingGraph::JointPrediction RangeBearingGraph::predict_jointly(std::size_
 	out.jacobian = Eigen::MatrixXd::Zero(n * dim, D);
 	out.own.assign(targets.size(), Eigen::MatrixXd::Zero(dim, dim));
 	out.support.resize(targets.size());
-	std::vector<double> xp, xm;
-	for (int j = 0; j < n; j++)
-	{
-		const auto tj = static_cast<std::size_t>(j);
-		const PredictionTarget& t = targets[tj];
-		out.points[tj] = predict_target(k, t, -1, nullptr);
-		if (t.first) out.own[tj] = provisional_noise(k, *t.first);
-		if (t.map) out.own[tj] = map_noise(k, *t.map);
-		std::vector<VariableId> with_pose{pose};
-		with_pose.insert(with_pose.end(), vars[tj].begin(), vars[tj].end());
-		std::sort(with_pose.begin(), with_pose.end());
-		with_pose.erase(std::unique(with_pose.begin(), with_pose.end()), with_pose.end());
-		for (VariableId v : with_pose)
-		{
-			const Manifold& M = *problem.variable(v).manifold;
-			out.support[tj].emplace_back(at.at(v), M.tangent_size());
-			const double* x = problem.value(v);
-			xp.resize(static_cast<std::size_t>(M.ambient_size()));
-			xm.resize(xp.size());
-			for (int c = 0; c < M.tangent_size(); c++)
-			{
-				Eigen::VectorXd d = Eigen::VectorXd::Zero(M.tangent_size());
-				d[c] = 1e-6;
-				M.plus(x, d.data(), xp.data());
-				d[c] = -1e-6;
-				M.plus(x, d.data(), xm.data());
-				out.jacobian.block(j * dim, at.at(v) + c, dim, 1) =
-					((predict_target(k, t, v, xp.data()) - predict_target(k, t, v, xm.data())) / 2e-6).head(dim);
-			}
-		}
-	}
+	for (int j = 0; j < n; j++) predict_one(k, targets[static_cast<std::size_t>(j)], vars[static_cast<std::size_t>(j)], at, j, out);
 	return out;
+}
+
+void RangeBearingGraph::predict_one(std::size_t k, const PredictionTarget& t, const std::vector<VariableId>& vars,
+									const std::map<VariableId, int>& at, int j, JointPrediction& out) const
+{
+	const int dim = reading_dof();
+	const auto tj = static_cast<std::size_t>(j);
+	out.points[tj] = predict_target(k, t, -1, nullptr);
+	if (t.first) out.own[tj] = provisional_noise(k, *t.first);
+	if (t.map) out.own[tj] = map_noise(k, *t.map);
+	std::vector<VariableId> with_pose{poses_[k].var};
+	with_pose.insert(with_pose.end(), vars.begin(), vars.end());
+	std::sort(with_pose.begin(), with_pose.end());
+	with_pose.erase(std::unique(with_pose.begin(), with_pose.end()), with_pose.end());
+	for (VariableId v : with_pose)
+	{
+		const int nv = smoother_.problem().variable(v).manifold->tangent_size();
+		out.support[tj].emplace_back(at.at(v), nv);
+		target_jacobian(k, t, v, out.jacobian.block(j * dim, at.at(v), dim, nv));
+	}
+}
+
+void RangeBearingGraph::target_jacobian(std::size_t k, const PredictionTarget& t, VariableId v,
+										Eigen::Ref<Eigen::MatrixXd> J) const
+{
+	const Manifold& M = *smoother_.problem().variable(v).manifold;
+	const double* x = smoother_.problem().value(v);
+	std::vector<double> xp(static_cast<std::size_t>(M.ambient_size())), xm(xp.size());
+	for (int c = 0; c < M.tangent_size(); c++)
+	{
+		Eigen::VectorXd d = Eigen::VectorXd::Zero(M.tangent_size());
+		d[c] = 1e-6;
+		M.plus(x, d.data(), xp.data());
+		d[c] = -1e-6;
+		M.plus(x, d.data(), xm.data());
+		J.col(c) = ((predict_target(k, t, v, xp.data()) - predict_target(k, t, v, xm.data())) / 2e-6).head(J.rows());
+	}
 }
 
 Eigen::MatrixXd RangeBearingGraph::JointPrediction::covariance_of(int a, int b, int dim) const
@@ -243,27 +250,8 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 {
 	const int dim = reading_dof();
 	const std::size_t k = readings.front().second.pose_step;
-	// Candidates: the graph's landmarks, the first readings still waiting for confirmation
-	// (provisional landmarks: a world point from one reading at a window pose) and the map's landmarks
-	// (map policy: their marginals, independent of the window, as the map keeps them).
 	std::vector<std::int32_t> ids;
-	std::vector<PredictionTarget> cand;
-	for (const auto& [id, lm] : landmarks_)
-	{
-		ids.push_back(id);
-		cand.push_back({&lm, nullptr});
-	}
-	for (const auto& [id, waiting] : unconfirmed_)
-		for (const auto& o : waiting)
-		{
-			ids.push_back(id);
-			cand.push_back({nullptr, &o});
-		}
-	for (const auto& [id, m] : map_)
-	{
-		ids.push_back(id);
-		cand.push_back({nullptr, nullptr, &m});
-	}
+	const std::vector<PredictionTarget> cand = association_candidates(ids);
 	const JointPrediction pred = predict_jointly(k, cand);
 	if (!pred.ok)
 		throw std::runtime_error("data association at step " + std::to_string(k) +
@@ -275,29 +263,8 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 		prob.readings.push_back(reading_point(o.z).head(dim));
 		prob.reading_covariances.push_back(reading_point_covariance(o.z, o.sigma).topLeftCorner(dim, dim));
 	}
-	// Individually compatible readings of each candidate; each reading keeps its kMaxCandidates
-	// nearest: JCBB's search grows exponentially with the choices per reading, and a farther candidate
-	// is never the nearest neighbour and rarely the joint choice.
-	const double gate = chi2_quantile(opt_.gate_probability, dim);
-	std::vector<std::vector<std::pair<double, int>>> compatible(readings.size());
-	for (int j = 0; j < static_cast<int>(cand.size()); j++)
-	{
-		const Eigen::MatrixXd S = pred.covariance_of(j, j, dim);
-		for (std::size_t i = 0; i < readings.size(); i++)
-		{
-			const double d2 =
-				mahalanobis(prob.readings[i], prob.reading_covariances[i], pred.points[static_cast<std::size_t>(j)], S);
-			if (d2 <= gate) compatible[i].push_back({d2, j});
-		}
-	}
-	constexpr std::size_t kMaxCandidates = 3;
-	std::set<int> chosen;
-	for (auto& c : compatible)
-	{
-		std::sort(c.begin(), c.end());
-		for (std::size_t t = 0; t < std::min(kMaxCandidates, c.size()); t++) chosen.insert(c[t].second);
-	}
-	const std::vector<int> kept(chosen.begin(), chosen.end());
+	const std::vector<int> kept =
+		compatible_candidates(prob, pred, cand.size(), chi2_quantile(opt_.gate_probability, dim));
 	const int m = static_cast<int>(kept.size());
 	prob.prediction_covariance = Eigen::MatrixXd::Zero(m * dim, m * dim);
 	for (int a = 0; a < m; a++)
@@ -319,5 +286,58 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 		readings[i].first = id;
 		assigned.push_back(id);
 	}
+}
+std::vector<RangeBearingGraph::PredictionTarget> RangeBearingGraph::association_candidates(
+	std::vector<std::int32_t>& ids) const
+{
+	// The graph's landmarks, the first readings still waiting for confirmation (provisional landmarks:
+	// a world point from one reading at a window pose) and the map's landmarks (map policy: their
+	// marginals, independent of the window, as the map keeps them).
+	std::vector<PredictionTarget> cand;
+	for (const auto& [id, lm] : landmarks_)
+	{
+		ids.push_back(id);
+		cand.push_back({&lm, nullptr});
+	}
+	for (const auto& [id, waiting] : unconfirmed_)
+		for (const auto& o : waiting)
+		{
+			ids.push_back(id);
+			cand.push_back({nullptr, &o});
+		}
+	for (const auto& [id, m] : map_)
+	{
+		ids.push_back(id);
+		cand.push_back({nullptr, nullptr, &m});
+	}
+	return cand;
+}
+
+std::vector<int> RangeBearingGraph::compatible_candidates(const AssociationProblem& prob, const JointPrediction& pred,
+														  std::size_t num_candidates, double gate)
+{
+	// Individually compatible readings of each candidate; each reading keeps its kMaxCandidates
+	// nearest: JCBB's search grows exponentially with the choices per reading, and a farther candidate
+	// is never the nearest neighbour and rarely the joint choice.
+	const int dim = prob.dim;
+	std::vector<std::vector<std::pair<double, int>>> compatible(prob.readings.size());
+	for (int j = 0; j < static_cast<int>(num_candidates); j++)
+	{
+		const Eigen::MatrixXd S = pred.covariance_of(j, j, dim);
+		for (std::size_t i = 0; i < prob.readings.size(); i++)
+		{
+			const double d2 =
+				mahalanobis(prob.readings[i], prob.reading_covariances[i], pred.points[static_cast<std::size_t>(j)], S);
+			if (d2 <= gate) compatible[i].push_back({d2, j});
+		}
+	}
+	constexpr std::size_t kMaxCandidates = 3;
+	std::set<int> chosen;
+	for (auto& c : compatible)
+	{
+		std::sort(c.begin(), c.end());
+		for (std::size_t t = 0; t < std::min(kMaxCandidates, c.size()); t++) chosen.insert(c[t].second);
+	}
+	return std::vector<int>(chosen.begin(), chosen.end());
 }
 }  // namespace swba::estimators::detail

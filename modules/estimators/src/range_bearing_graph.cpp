@@ -22,15 +22,8 @@ SlidingWindowOptions validated(const SlidingWindowOptions& options)
 
 smoother::FixedLagSmootherOptions smoother_options(const SlidingWindowOptions& o)
 {
-	smoother::FixedLagSmootherOptions s;
-	// The re-linearised poses are the smoother's window; the rest of the window W is its linear tail.
-	s.lag = o.relinearized_window();
-	s.linear_lag = o.window_size - s.lag;
-	s.first_estimate_jacobians = o.first_estimate_jacobians;
-	s.marginalization_threshold = o.marginalization_threshold;
-	s.eliminate_prior_only = o.eliminate_prior_only_landmarks;
-	s.solver = o.solver;
-	return s;
+	// The re-linearised poses are re-solved at every step; the rest of the window W is the linear tail.
+	return {o.window_size, o.relinearized_window(), o.first_estimate_jacobians, o.marginalization_threshold, o.solver};
 }
 
 /** The pose on the plane z = 0: (x, y, yaw). */
@@ -206,14 +199,7 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 	smoother_.add_state(step.time(), vnew);
 	const Eigen::MatrixXd odo_info = add_odometry_factor(step, vprev, vnew);
 	if (step.readings.empty()) return;
-	if (association_ == DataAssociation::Auto)
-	{
-		association_ = resolve_association(opt_.association, step);
-		// The SLAM policy's prior-only landmarks are kept as their conditional (exact, cost per step
-		// not cubic in the map); data association asks for their covariances at every step, which
-		// the per-solve elimination keeps available (doc/window.md, "Cost per step").
-		smoother_.set_store_prior_only(opt_.policy == LandmarkPolicy::Slam && association_ == DataAssociation::Ids);
-	}
+	if (association_ == DataAssociation::Auto) association_ = resolve_association(opt_.association, step);
 	const bool associating = association_ != DataAssociation::Ids;
 	if (gate_on_entry_ || associating) newest_pose_cov_ = odo_info.inverse();
 	Eigen::Vector3d sigma;
@@ -245,6 +231,13 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 			}
 	sum.readings += static_cast<int>(readings.size());
 	counts_.readings += readings.size();
+	admit_step_readings(readings, matched, sum);
+	if (gate_on_entry_ && !associating) retest_held(k, sum);
+}
+
+void RangeBearingGraph::admit_step_readings(const std::vector<std::pair<std::int32_t, Observation>>& readings,
+											const std::vector<bool>& matched, StepSummary& sum)
+{
 	if (gate_on_entry_) centre_gate(readings);
 	for (std::size_t i = 0; i < readings.size(); i++)
 	{
@@ -260,7 +253,17 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 		auto it = landmarks_.find(id);
 		admit(it == landmarks_.end() ? add_landmark(id, o) : it->second, o);
 	}
-	if (gate_on_entry_ && !associating) retest_held(k, sum);
+}
+
+smoother::PriorOnly RangeBearingGraph::prior_only(VariableId v) const
+{
+	if (!opt_.eliminate_prior_only_landmarks || !is_landmark(v)) return smoother::PriorOnly::Keep;
+	// The SLAM policy's prior-only landmarks are kept as their conditional (exact, cost per step not
+	// cubic in the map); data association asks for their covariances at every step, which the
+	// per-solve elimination keeps available (doc/window.md, "Cost per step"). The association is
+	// resolved at the first step with readings, before any landmark exists.
+	return opt_.policy == LandmarkPolicy::Slam && association_ == DataAssociation::Ids ? smoother::PriorOnly::Store
+																					  : smoother::PriorOnly::Eliminate;
 }
 
 void RangeBearingGraph::admit(Landmark& lm, Observation o)
@@ -292,7 +295,7 @@ void RangeBearingGraph::replace_landmark_variable(Landmark& lm, VariableId v)
 {
 	for (auto& o : lm.obs) smoother_.problem().remove_factor(o.factor);
 	landmark_of_var_.erase(lm.var);
-	smoother_.remove_variable(lm.var);
+	smoother_.problem().remove_variable(lm.var);
 	lm.var = v;
 	landmark_of_var_[v] = lm.id;
 	for (auto& o : lm.obs) o.factor = add_observation_factor(lm, o);

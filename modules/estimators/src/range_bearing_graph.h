@@ -148,6 +148,9 @@ class RangeBearingGraph
 	std::map<std::int32_t, Landmark>& landmarks() { return landmarks_; }
 	const std::map<std::int32_t, Landmark>& landmarks() const { return landmarks_; }
 	bool is_landmark(VariableId v) const { return landmark_of_var_.count(v) > 0; }
+	/** How the smoother handles `v` while only its prior touches it: landmarks are eliminated, or stored
+	 * with the SLAM policy and known IDs (SlidingWindowOptions::eliminate_prior_only_landmarks). */
+	smoother::PriorOnly prior_only(VariableId v) const;
 	/** A landmark variable holding a world point (XYZ parameterisation, or switched to world XYZ). */
 	bool is_world_point(VariableId v) const;
 	/** World XYZ of every landmark by ID. */
@@ -162,8 +165,8 @@ class RangeBearingGraph
 	/** Drops the observations whose factors are in `removed`. */
 	void forget_observations(const std::set<FactorId>& removed);
 
-	/** Re-anchors inverse-depth landmark `lm` to pose step `b`: an exact rewrite of its factors, and a
-	 * first-order change of variables λ = g(T_a, T_b, λ') in the prior if λ is in it. */
+	/** Re-anchors inverse-depth landmark `lm`, which is not in the marginal prior, to pose step `b`: an
+	 * exact rewrite of its factors. (A landmark in the prior is switched to world XYZ instead.) */
 	void reanchor(Landmark& lm, std::size_t b);
 	/** Switches inverse-depth landmark `lm`, which is in the marginal prior and whose anchor a is about
 	 * to be marginalised, to world XYZ p: an exact rewrite of its factors, and a first-order change of
@@ -283,6 +286,19 @@ class RangeBearingGraph
 		Eigen::MatrixXd covariance_of(int a, int b, int dim) const;
 	};
 	JointPrediction predict_jointly(std::size_t k, const std::vector<PredictionTarget>& targets);
+	/** predict_jointly() for target j (`vars`: its variables; `at`: their first columns in the group). */
+	void predict_one(std::size_t k, const PredictionTarget& t, const std::vector<VariableId>& vars,
+					 const std::map<VariableId, int>& at, int j, JointPrediction& out) const;
+	/** The rows of target `t`'s prediction (sensor frame of pose step k) over the tangent of variable
+	 * `v`, by central differences, written into `J` (reading_dof × v's tangent size). */
+	void target_jacobian(std::size_t k, const PredictionTarget& t, VariableId v, Eigen::Ref<Eigen::MatrixXd> J) const;
+	/** The candidates of data association (the graph's landmarks, the provisional ones, the map's) and
+	 * their IDs in `ids`, in that order. */
+	std::vector<PredictionTarget> association_candidates(std::vector<std::int32_t>& ids) const;
+	/** The candidates individually compatible (inside `gate`) with some reading of `prob`, each reading
+	 * keeping its few nearest, in increasing order. */
+	static std::vector<int> compatible_candidates(const AssociationProblem& prob, const JointPrediction& pred,
+												  std::size_t num_candidates, double gate);
 	/** The window variables target `t`'s world point depends on. */
 	std::vector<VariableId> target_variables(const PredictionTarget& t) const;
 	/** Target `t` in the sensor frame of pose step k, with variable `v` at `xv` (v < 0: every variable
@@ -325,6 +341,10 @@ class RangeBearingGraph
 											  const std::vector<ReadingMove>& moved) const;
 	/** Adds the factor of `o` to `lm` and records it as admitted. */
 	void admit(Landmark& lm, Observation o);
+	/** The step's readings (IDs assigned, `matched`: associated to an existing landmark) into the graph:
+	 * gated on entry when on, else each joins its landmark (a new one if unknown). */
+	void admit_step_readings(const std::vector<std::pair<std::int32_t, Observation>>& readings,
+							 const std::vector<bool>& matched, StepSummary& sum);
 	/** Adds the landmark of a first reading, initialised from it at pose step k. */
 	Landmark& add_landmark(std::int32_t id, const Observation& o);
 	/** Map policy: landmark `id` (in the map, not in the state) re-enters as a world point at its map
@@ -351,7 +371,7 @@ class RangeBearingGraph
 	/** Per pose of the linear tail, oldest first: the landmarks it read and how often. */
 	std::deque<std::vector<std::pair<std::int32_t, std::size_t>>> tail_readings_;
 	std::map<VariableId, std::int32_t> landmark_of_var_;
-	std::map<std::int32_t, MapLandmark> map_;  ///< Map policy (landmark_policy.cpp)
+	std::map<std::int32_t, MapLandmark> map_;  ///< Map policy (landmark_map.cpp)
 	mrpt::poses::CPose3D last_sensor_;
 	std::shared_ptr<const LossFunction> loss_;  ///< of the reading factors (set with the model)
 	double robust_scale_sq_ = 0;                ///< χ²_dof(robust_probability) (set with the model)

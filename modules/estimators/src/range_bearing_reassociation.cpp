@@ -133,7 +133,7 @@ void RangeBearingGraph::reassociate(StepSummary& sum)
 		if (smoother_.in_prior(it->second.var)) continue;
 		const VariableId v = it->second.var;
 		forget_landmark(v);
-		smoother_.remove_variable(v);
+		smoother_.problem().remove_variable(v);
 	}
 }
 }  // namespace swba::estimators::detail

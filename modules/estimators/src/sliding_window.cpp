@@ -8,7 +8,7 @@
 #include <swba/core/manifold.h>
 
 #include <algorithm>
-#include <chrono>
+#include <swba/core/timing.h>
 #include <deque>
 #include <cmath>
 #include <optional>
@@ -17,24 +17,25 @@
 
 namespace swba::estimators
 {
-namespace
-{
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-}  // namespace
-
-struct SlidingWindowEstimator::Impl
+/** The window as the smoother's client: per step, the range-bearing graph grows, then one
+ * smoother update() calls back here to hold the gauge, read the solution and decide what leaves. */
+struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 {
 	detail::RangeBearingGraph graph;
 	eval::Trajectory online, lagged;
 	std::vector<PoseCovariance> online_cov, lagged_cov;
 	PoseCovariance leaving_cov;  ///< the oldest pose's, from this step's solve (when it leaves)
-	/** With re-linearised poses < W: the covariances of the poses in the smoother's linear tail, oldest
-	 * first, as of their leaving the re-linearised part (reported with them at lag W). */
+	/** The covariances of the poses that left the re-linearised window and are still held (the
+	 * smoother's linear tail), oldest first, as of their leaving it (reported with them at lag W). */
 	std::deque<PoseCovariance> tail_cov;
 	std::vector<StepSummary> summaries;
 	std::optional<mrpt::poses::CPose3D> initial_left;  ///< the initial pose's estimate when it left the window
 	bool finished = false;
+	// The step being processed (set by process() around its update()).
+	StepSummary* sum = nullptr;
+	const std::map<VariableId, std::vector<double>>* before = nullptr;
+	SteadyClock::time_point solve_start;
+	std::set<VariableId> leaving_with_oldest;  ///< the landmarks leaving with the oldest pose
 
 	explicit Impl(const SlidingWindowOptions& o) : graph(o) {}
 
@@ -42,31 +43,39 @@ struct SlidingWindowEstimator::Impl
 	const smoother::FixedLagSmoother& smoother() const { return graph.smoother(); }
 	const SlidingWindowOptions& opt() const { return graph.options(); }
 
-	/** One LM solve of the window (prior-only landmarks eliminated as the options say). */
-	void solve(StepSummary& sum, const std::map<VariableId, std::vector<double>>& before)
+	/** True when the oldest pose leaves the re-linearised window at this step's update(). */
+	bool oldest_leaves() const
 	{
-		const auto ts = Clock::now();
-		const auto is_landmark = [&](VariableId v) { return graph.is_landmark(v); };
-		const CovarianceRequest request = opt().gauge == GaugeMode::Free ? CovarianceRequest{} : covariance_request();
-		const smoother::UpdateSummary u = smoother().update(is_landmark, request);
+		const int k = opt().relinearized_window();
+		return k > 0 && static_cast<int>(smoother().states().size()) > k;
+	}
+
+	smoother::PriorOnly prior_only(VariableId v) const override { return graph.prior_only(v); }
+
+	bool hold(const smoother::UpdateSummary&) override
+	{
 		if (opt().gauge == GaugeMode::Free)
 		{
-			graph.hold_gauge(before);
-			smoother().update_prior_only_values();
-			smoother().smooth_linear_states();
+			graph.hold_gauge(*before);
+			return true;
 		}
-		sum.prior_only_landmarks = u.prior_only_eliminated;
-		sum.solve_seconds = seconds_since(ts) - u.covariance.seconds;
-		sum.iterations = u.solver.iterations;
-		sum.termination = u.solver.termination;
-		sum.solver_message = u.solver.message;
-		sum.initial_cost = u.solver.initial_cost;
-		sum.final_cost = u.solver.final_cost;
+		return false;
+	}
+
+	void solved(const smoother::UpdateSummary& u) override
+	{
+		sum->prior_only_landmarks = u.prior_only_eliminated;
+		sum->solve_seconds = seconds_since(solve_start) - u.covariance.seconds;
+		sum->iterations = u.solver.iterations;
+		sum->termination = u.solver.termination;
+		sum->solver_message = u.solver.message;
+		sum->initial_cost = u.solver.initial_cost;
+		sum->final_cost = u.solver.final_cost;
 		if (opt().covariances)
-			keep_covariances(opt().gauge == GaugeMode::Free ? graph.covariances(covariance_request()) : u.covariance,
-							 sum);
-		if (graph.gate_on_entry()) graph.readmit_held(sum);
-		graph.reassociate(sum);
+			keep_covariances(opt().gauge == GaugeMode::Free ? graph.covariances(covariance_request()) : u.covariance);
+		if (graph.gate_on_entry()) graph.readmit_held(*sum);
+		graph.reassociate(*sum);
+		online.push_back(smoother().states().back().time, graph.pose(smoother().states().back().var));
 	}
 
 	/** The poses whose covariance a step reports: the newest (online) and, when it is about to leave,
@@ -76,21 +85,21 @@ struct SlidingWindowEstimator::Impl
 		CovarianceRequest r;
 		if (!opt().covariances) return r;
 		r.groups.push_back({smoother().states().back().var});
-		if (smoother().over_lag()) r.groups.push_back({smoother().states().front().var});
+		if (oldest_leaves()) r.groups.push_back({smoother().states().front().var});
 		return r;
 	}
 
-	void keep_covariances(const CovarianceResult& r, StepSummary& sum)
+	void keep_covariances(const CovarianceResult& r)
 	{
-		sum.covariance_seconds = r.seconds;
+		sum->covariance_seconds = r.seconds;
 		online_cov.push_back(graph.pose_covariance(smoother().states().back().var, r, 0));
-		if (smoother().over_lag()) leaving_cov = graph.pose_covariance(smoother().states().front().var, r, 1);
+		if (oldest_leaves()) leaving_cov = graph.pose_covariance(smoother().states().front().var, r, 1);
 	}
 
 	/** The landmark policy at the oldest pose (step o) leaving: landmarks anchored there are
 	 * re-anchored or switched to world XYZ; with ConstantTime and Map, the landmarks no other window
 	 * pose observes leave with it (returned). */
-	std::set<VariableId> landmarks_leaving_with(std::size_t o, StepSummary& sum)
+	std::set<VariableId> landmarks_leaving_with(std::size_t o)
 	{
 		std::set<VariableId> leaving;
 		const std::size_t newest_step = graph.poses().size() - 1;
@@ -110,83 +119,76 @@ struct SlidingWindowEstimator::Impl
 				if (smoother().in_prior(lm.var))
 				{
 					graph.convert_to_world_xyz(lm);
-					sum.landmarks_to_world++;
+					sum->landmarks_to_world++;
 				}
 				else
 					graph.reanchor(lm, seen_in_window ? newest : newest_step);
-				sum.reanchored++;
+				sum->reanchored++;
 			}
 		}
 		return leaving;
 	}
 
-	void marginalize_oldest(StepSummary& sum)
+	std::set<VariableId> leaving(const smoother::TimedState& oldest) override
 	{
-		const smoother::TimedState oldest = smoother().states().front();
 		const std::size_t o = graph.step_of(oldest.var);
-		const std::set<VariableId> leaving = landmarks_leaving_with(o, sum);
-		sum.down_weighted = graph.count_down_weighted(graph.reading_factors_leaving(o, leaving));
+		leaving_with_oldest = landmarks_leaving_with(o);
+		const std::set<VariableId>& out = leaving_with_oldest;
+		sum->down_weighted = graph.count_down_weighted(graph.reading_factors_leaving(o, out));
 		graph.expire_readings_at(o);
-		if (smoother().options().linear_lag > 0)
-		{
-			if (opt().covariances) tail_cov.push_back(leaving_cov);
-			graph.hold_tail_readings(o);
-		}
-		else
-			emit_lagged(oldest.time, oldest.var, graph.pose(oldest.var), leaving_cov);
-		if (opt().policy == LandmarkPolicy::Map) sum.landmarks_not_mapped = graph.keep_in_map(leaving);
-		const smoother::MarginalizationSummary m = smoother().marginalize_oldest(leaving);
-		sum.unevaluable_factors = m.unevaluable_factors;
+		if (opt().covariances) tail_cov.push_back(leaving_cov);
+		if (opt().relinearized_window() < opt().window_size) graph.hold_tail_readings(o);
+		if (opt().policy == LandmarkPolicy::Map) sum->landmarks_not_mapped = graph.keep_in_map(out);
+		return out;
+	}
+
+	void marginalized(const smoother::TimedState&, const smoother::MarginalizationSummary& m) override
+	{
+		sum->unevaluable_factors = m.unevaluable_factors;
 		graph.forget_observations(m.removed);
-		for (VariableId v : leaving)
-			if (graph.forget_landmark(v)) sum.marginalized_landmarks++;
+		for (VariableId v : leaving_with_oldest)
+			if (graph.forget_landmark(v)) sum->marginalized_landmarks++;
 	}
 
-	/** Appends a pose leaving the window at lag W to the lagged output. */
-	void emit_lagged(double time, VariableId var, const mrpt::poses::CPose3D& pose, const PoseCovariance& cov)
+	/** A pose leaves the window at lag W: the lagged output. */
+	void left(const smoother::TimedState& s, const std::vector<double>& value) override
 	{
-		lagged.push_back(time, pose);
-		if (opt().covariances) lagged_cov.push_back(cov);
-		if (var == graph.poses().front().var) initial_left = pose;
-	}
-
-	/** The oldest pose of the linear tail leaves at lag W (re-linearised poses < W). */
-	void emit_oldest_linear()
-	{
-		const smoother::LinearState s = smoother().pop_oldest_linear();
-		graph.release_tail_readings();
+		if (opt().relinearized_window() < opt().window_size) graph.release_tail_readings();
 		PoseCovariance cov;
 		if (opt().covariances)
 		{
 			cov = tail_cov.front();
 			tail_cov.pop_front();
 		}
-		emit_lagged(s.time, s.var, SE3Manifold::to_pose(s.value.data()), cov);
+		const mrpt::poses::CPose3D pose = SE3Manifold::to_pose(value.data());
+		lagged.push_back(s.time, pose);
+		if (opt().covariances) lagged_cov.push_back(cov);
+		if (s.var == graph.poses().front().var) initial_left = pose;
 	}
 
 	const StepSummary& process(const io::RawlogStep& step)
 	{
 		if (finished) throw std::logic_error("SlidingWindowEstimator: process() after finish()");
-		const auto t0 = Clock::now();
-		StepSummary sum;
-		sum.step = step.index;
-		const auto before = graph.gauge_snapshot();
-		graph.add_step(step, sum);
-		solve(sum, before);
-		online.push_back(step.time(), graph.pose(smoother().states().back().var));
-		if (smoother().over_lag())
-		{
-			const auto tm = Clock::now();
-			marginalize_oldest(sum);
-			while (smoother().linear_over_lag()) emit_oldest_linear();
-			sum.marginalization_seconds = seconds_since(tm);
-		}
-		sum.window_poses = static_cast<int>(smoother().states().size() + smoother().num_linear_states());
-		sum.landmarks = static_cast<int>(graph.landmarks().size());
-		sum.prior_rank = smoother().prior().rank();
-		sum.prior_variables = static_cast<int>(smoother().prior().variables().size());
-		sum.seconds = seconds_since(t0);
-		summaries.push_back(sum);
+		const auto t0 = SteadyClock::now();
+		StepSummary step_sum;
+		step_sum.step = step.index;
+		const auto snapshot = graph.gauge_snapshot();
+		graph.add_step(step, step_sum);
+		sum = &step_sum;
+		before = &snapshot;
+		solve_start = SteadyClock::now();
+		const CovarianceRequest request =
+			opt().gauge == GaugeMode::Free ? CovarianceRequest{} : covariance_request();
+		const smoother::UpdateSummary u = smoother().update(*this, request);
+		sum = nullptr;
+		before = nullptr;
+		step_sum.marginalization_seconds = u.marginalization_seconds;
+		step_sum.window_poses = static_cast<int>(smoother().states().size() + smoother().linear_states().size());
+		step_sum.landmarks = static_cast<int>(graph.landmarks().size());
+		step_sum.prior_rank = smoother().prior().rank();
+		step_sum.prior_variables = static_cast<int>(smoother().prior().variables().size());
+		step_sum.seconds = seconds_since(t0);
+		summaries.push_back(step_sum);
 		return summaries.back();
 	}
 
@@ -249,7 +251,8 @@ mrpt::poses::CPose3D SlidingWindowEstimator::initial_pose() const
 	if (impl_->initial_left) return *impl_->initial_left;
 	if (impl_->graph.poses().empty()) return mrpt::poses::CPose3D();  // before the first step: the origin
 	const VariableId initial = impl_->graph.poses().front().var;
-	if (const double* x = impl_->graph.smoother().linear_value(initial)) return SE3Manifold::to_pose(x);
+	for (const auto& s : impl_->graph.smoother().linear_states())
+		if (s.var == initial) return SE3Manifold::to_pose(s.value.data());
 	return impl_->graph.pose(initial);
 }
 const eval::Trajectory& SlidingWindowEstimator::online_trajectory() const { return impl_->online; }
@@ -332,7 +335,7 @@ void batch_covariances(detail::RangeBearingGraph& graph, BatchResult& r)
 BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& options, int max_iterations,
 					  const eval::Trajectory* start)
 {
-	const auto t0 = Clock::now();
+	const auto t0 = SteadyClock::now();
 	SlidingWindowOptions o = options;
 	o.window_size = 0;
 	detail::RangeBearingGraph graph(o);
@@ -365,16 +368,16 @@ BatchResult run_batch(const io::Rawlog& rawlog, const SlidingWindowOptions& opti
 		// estimate the outliers have not dragged (least squares, or Huber's bounded but non-vanishing
 		// influence, left enough bias to gate good readings with 5 % outliers); then the options' own loss.
 		graph.set_reading_loss(make_loss(RobustLoss::Cauchy, std::sqrt(o.gate_threshold(graph.reading_dof()))));
-		graph.smoother().solve(so);
+		swba::solve(graph.smoother().problem(), so);
 		graph.set_reading_loss(o.reading_loss(graph.reading_dof()));
 		graph.regate_all();
 		r.rounds++;
 	}
-	r.summary = graph.smoother().solve(so);
+	r.summary = swba::solve(graph.smoother().problem(), so);
 	constexpr int kMaxRounds = 6;
 	while (o.gate_readings && r.rounds < kMaxRounds && graph.regate_all())
 	{
-		r.summary = graph.smoother().solve(so);
+		r.summary = swba::solve(graph.smoother().problem(), so);
 		r.rounds++;
 	}
 	r.counts = graph.counts();

@@ -47,7 +47,7 @@ std::map<VariableId, std::vector<double>> RangeBearingGraph::gauge_snapshot() co
 {
 	std::map<VariableId, std::vector<double>> out;
 	for (const auto& [v, var] : smoother_.problem().variables())
-		if (!var.constant || smoother_.is_stored_prior_only(v))  // the stored landmarks hold the frame too
+		if (!var.constant || (smoother_.in_prior(v) && smoother_.prior().index_of(v) < 0))  // stored ones hold it too
 		{
 			const double* x = smoother_.linearization_point(v);
 			out.emplace(v, std::vector<double>(x, x + var.value.size()));

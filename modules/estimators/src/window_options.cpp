@@ -27,10 +27,9 @@ SolverOptions SlidingWindowOptions::default_solver_options()
 {
 	SolverOptions s;
 	s.max_iterations = 10;
-	// From a warm start the window's cost settles within 2–3 iterations; 1e-9 added iterations that each
-	// moved the cost by < 1e-7 relative (≈ 7.3 instead of ≈ 4.5 per step on kf-slam_6D_demo, same APE to
-	// 5 digits). 1e-6 saves one more iteration but moved the lagged APE of the 5000-step run by up to
-	// 0.7 %; 1e-7 keeps both runs' APE within 0.1 % (doc/run.md, "Benchmark").
+	// From a warm start the window's cost settles within a few iterations: a tighter tolerance adds
+	// iterations that no longer move the APE, a looser one moves the lagged APE of long runs
+	// (measurements: doc/benchmarks/run.md, "Benchmark: `swba_bench_window`").
 	s.function_tolerance = 1e-7;
 	return s;
 }

@@ -132,25 +132,7 @@ MarginalizationResult marginalize(const Eigen::MatrixXd& H, const Eigen::VectorX
 	const int n = static_cast<int>(H.rows());
 	if (H.cols() != n || b.size() != n) throw std::invalid_argument("marginalize: H must be n×n and b n");
 	check_index_sets(n, keep, marg);
-	const Eigen::MatrixXd Hkk = gather(H, keep, keep), Hkm = gather(H, keep, marg), Hmm = gather(H, marg, marg);
-	const Eigen::VectorXd bk = gather(b, keep), bm = gather(b, marg);
-	MarginalizationResult out;
-	if (!marg.empty())
-	{
-		const Eigen::MatrixXd Hmm_inv = truncated_pseudo_inverse(Hmm, rel_threshold);
-		const Eigen::MatrixXd K = Hkm * Hmm_inv;
-		out.H = Hkk - K * Hkm.transpose();
-		out.b = bk - K * bm;
-	}
-	else
-	{
-		out.H = Hkk;
-		out.b = bk;
-	}
-	out.H = 0.5 * (out.H + out.H.transpose()).eval();
-
-	square_root_form(out, rel_threshold, Hkk.size() ? Hkk.diagonal().maxCoeff() : 0.0);
-	return out;
+	return eliminate(partition_normal_equations(H, b, marg, keep), rel_threshold).marginal;
 }
 
 void square_root_form(MarginalizationResult& m, double rel_threshold, double scale)
@@ -180,43 +162,7 @@ void square_root_form(MarginalizationResult& m, double rel_threshold, double sca
 MarginalizationResult marginalize_leading(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,
 										  double threshold, double scale)
 {
-	const int n = static_cast<int>(H.rows());
-	if (H.cols() != n || b.size() != n || num_keep < 0 || num_keep > n)
-		throw std::invalid_argument("marginalize_leading: H must be n×n, b n, 0 <= num_keep <= n");
-	const int nk = num_keep, nm = n - num_keep;
-	if (nk > 0) scale = std::max(scale, H.topLeftCorner(nk, nk).diagonal().maxCoeff());
-	MarginalizationResult out;
-	if (nm > 0)
-	{
-		const Eigen::MatrixXd Hmm_inv = truncated_pseudo_inverse(H.bottomRightCorner(nm, nm), threshold);
-		const Eigen::MatrixXd K = H.topRightCorner(nk, nm) * Hmm_inv;
-		out.H = H.topLeftCorner(nk, nk);
-		out.H.noalias() -= K * H.topRightCorner(nk, nm).transpose();
-		out.b = b.head(nk) - K * b.tail(nm);
-	}
-	else
-	{
-		out.H = H;
-		out.b = b;
-	}
-	out.H = 0.5 * (out.H + out.H.transpose()).eval();
-	// Square root: a blocked Cholesky when H* is well conditioned, else (rank-deficient H*, e.g. anchor
-	// poses of inverse-depth landmarks or a free gauge, doc/window.md) the truncated pivoted Cholesky
-	// of the same H*. Both cut relative to the kept block before elimination (`scale`).
-	const auto pivoted_form = [&] {
-		square_root_form(out, threshold, scale);
-		return out;
-	};
-	if (nk == 0) return pivoted_form();
-	Eigen::LLT<Eigen::MatrixXd> llt(out.H);
-	if (llt.info() != Eigen::Success) return pivoted_form();
-	const Eigen::VectorXd piv = llt.matrixLLT().diagonal().cwiseAbs2();
-	if (!(piv.minCoeff() > threshold * std::max(piv.maxCoeff(), scale))) return pivoted_form();
-	// ½‖e + J δ‖² = ½ δᵀ H* δ − b*ᵀ δ + const with J = Lᵀ, Jᵀe = −b*: e = −L⁻¹ b*.
-	out.J = llt.matrixU();
-	out.e = -(llt.matrixL().solve(out.b));
-	out.rank = nk;
-	return out;
+	return eliminate(partition_leading(H, b, num_keep), threshold, false, scale).marginal;
 }
 
 PartitionedNormalEquations partition_normal_equations(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
@@ -241,31 +187,71 @@ PartitionedNormalEquations partition_square_root(const Eigen::MatrixXd& J, const
 	return s;
 }
 
-ConditionalElimination eliminate_conditional(PartitionedNormalEquations s, double threshold)
+PartitionedNormalEquations partition_leading(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep)
 {
-	ConditionalElimination out;
-	// K = Hpp⁻¹ Hpa, k = Hpp⁻¹ bp: blocked Cholesky when Hpp is clearly positive definite, else the
-	// thresholded pseudo-inverse marginalize() uses.
-	Eigen::LLT<Eigen::MatrixXd> llt(s.Hpp);
-	const Eigen::VectorXd piv = llt.matrixLLT().diagonal().cwiseAbs2();
+	const int n = static_cast<int>(H.rows());
+	if (H.cols() != n || b.size() != n || num_keep < 0 || num_keep > n)
+		throw std::invalid_argument("partition_leading: H must be n×n, b n, 0 <= num_keep <= n");
+	const int nk = num_keep, nm = n - num_keep;
+	return {H.bottomRightCorner(nm, nm), H.bottomLeftCorner(nm, nk), H.topLeftCorner(nk, nk), b.tail(nm), b.head(nk)};
+}
+
+SymmetricInverse::SymmetricInverse(const Eigen::MatrixXd& A, double rel_threshold) : llt_(A)
+{
+	const Eigen::VectorXd piv = llt_.matrixLLT().diagonal().cwiseAbs2();
 	const double pmax = piv.size() ? piv.maxCoeff() : 0.0;
-	if (llt.info() == Eigen::Success && pmax > 0 && piv.minCoeff() > threshold * pmax)
-	{
-		out.K = llt.solve(s.Hpa);
-		out.k = llt.solve(s.bp);
-	}
-	else
-	{
-		const Eigen::MatrixXd Hpp_inv = truncated_pseudo_inverse(s.Hpp, threshold);
-		out.K = Hpp_inv * s.Hpa;
-		out.k = Hpp_inv * s.bp;
-	}
+	cholesky_ = llt_.info() == Eigen::Success && pmax > 0 && piv.minCoeff() > rel_threshold * pmax;
+	if (!cholesky_ && A.rows() > 0) pseudo_inverse_ = truncated_pseudo_inverse(A, rel_threshold);
+}
+
+Eigen::MatrixXd SymmetricInverse::solve(const Eigen::MatrixXd& B) const
+{
+	if (cholesky_) return llt_.solve(B);
+	if (pseudo_inverse_.size() == 0) return Eigen::MatrixXd::Zero(0, B.cols());
+	return pseudo_inverse_ * B;
+}
+
+Eigen::MatrixXd SymmetricInverse::inverse() const
+{
+	return cholesky_ ? Eigen::MatrixXd(llt_.solve(Eigen::MatrixXd::Identity(llt_.rows(), llt_.cols())))
+					 : pseudo_inverse_;
+}
+
+namespace
+{
+/** m.J, m.e, m.rank from m.H, m.b: a blocked Cholesky when m.H is clearly positive definite, else
+ * square_root_form (see GaussianElimination::marginal). */
+void leading_square_root(MarginalizationResult& m, double threshold, double scale)
+{
+	Eigen::LLT<Eigen::MatrixXd> llt(m.H);
+	if (llt.info() != Eigen::Success) return square_root_form(m, threshold, scale);
+	const Eigen::VectorXd piv = llt.matrixLLT().diagonal().cwiseAbs2();
+	if (!(piv.minCoeff() > threshold * std::max(piv.maxCoeff(), scale))) return square_root_form(m, threshold, scale);
+	// ½‖e + J δ‖² = ½ δᵀ H* δ − b*ᵀ δ + const with J = Lᵀ, Jᵀe = −b*: e = −L⁻¹ b*.
+	m.J = llt.matrixU();
+	m.e = -(llt.matrixL().solve(m.b));
+	m.rank = static_cast<int>(m.H.rows());
+}
+}  // namespace
+
+GaussianElimination eliminate(PartitionedNormalEquations s, double threshold, bool with_covariance, double scale)
+{
+	GaussianElimination out;
 	const Eigen::Index na = s.Haa.rows();
+	if (na > 0) scale = std::max(scale, s.Haa.diagonal().maxCoeff());
+	if (s.Hpp.rows() > 0)
+	{
+		const SymmetricInverse inverse(s.Hpp, threshold);
+		out.conditional.K = inverse.solve(s.Hpa);
+		out.conditional.k = inverse.solve(s.bp);
+		if (with_covariance) out.conditional.covariance = inverse.inverse();
+		s.Haa.noalias() -= s.Hpa.transpose() * out.conditional.K;
+		s.ba.noalias() -= s.Hpa.transpose() * out.conditional.k;
+	}
 	if (na == 0) return out;
-	const double scale = s.Haa.diagonal().maxCoeff();
-	s.Haa.noalias() -= s.Hpa.transpose() * out.K;
-	const Eigen::VectorXd b_red = s.ba - s.Hpa.transpose() * out.k;
-	out.marginal = marginalize_leading(s.Haa, b_red, static_cast<int>(na), threshold, scale);
+	out.marginal.H = 0.5 * (s.Haa + s.Haa.transpose());
+	out.marginal.b = std::move(s.ba);
+	leading_square_root(out.marginal, threshold, scale);
 	return out;
 }
 }  // namespace swba

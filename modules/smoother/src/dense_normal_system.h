@@ -1,8 +1,8 @@
 /** \file dense_normal_system.h
  * (private to the smoother module) The linearisation of a marginalisation step: dense normal
  * equations H δ = b (b = −Jᵀr, whitened, robust losses applied as the solver does) of `factors` at the
- * current values over the variables `order` (others held fixed). Like swba::linearize_dense, but block
- * by block without the stacked Jacobian, and with one factor, the marginal prior, entered from its
+ * current values over the variables `order` (others held fixed), accumulated block by block without
+ * the stacked Jacobian, and with one factor, the marginal prior, entered from its
  * known information: a LinearPriorFactor r = e + J (x ⊟ x_lin) with constant J contributes
  * H_prior = JᵀJ and b_prior − H_prior (x ⊟ x_lin). O(Σ factor blocks + n²) instead of O(rows·n²). */
 #pragma once

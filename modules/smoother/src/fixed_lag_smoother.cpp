@@ -7,6 +7,7 @@
 
 #include <swba/linear/marginal.h>
 
+#include <swba/core/timing.h>
 #include <stdexcept>
 
 namespace swba::smoother
@@ -21,36 +22,29 @@ FixedLagSmoother::~FixedLagSmoother() = default;
 FixedLagSmoother::FixedLagSmoother(FixedLagSmoother&&) noexcept = default;
 FixedLagSmoother& FixedLagSmoother::operator=(FixedLagSmoother&&) noexcept = default;
 
+PriorOnly SmootherClient::prior_only(VariableId) const { return PriorOnly::Keep; }
+bool SmootherClient::hold(const UpdateSummary&) { return false; }
+void SmootherClient::solved(const UpdateSummary&) {}
+std::set<VariableId> SmootherClient::leaving(const TimedState&) { return {}; }
+void SmootherClient::marginalized(const TimedState&, const MarginalizationSummary&) {}
+void SmootherClient::left(const TimedState&, const std::vector<double>&) {}
+
 bool FixedLagSmoother::in_prior(VariableId v) const { return prior_.index_of(v) >= 0 || store_->contains(v); }
-
-bool FixedLagSmoother::is_stored_prior_only(VariableId v) const { return store_->contains(v); }
-
-void FixedLagSmoother::set_store_prior_only(bool on)
-{
-	if (!on) release_prior_only();
-	opt_.store_prior_only = on;
-}
-
-void FixedLagSmoother::activate(VariableId v)
-{
-	if (store_->contains(v)) store_->release(problem_, prior_, {v});
-}
 
 void FixedLagSmoother::release_prior_only() { store_->release(problem_, prior_, store_->variables()); }
 
-void FixedLagSmoother::update_prior_only_values() { store_->set_values(problem_, prior_); }
-
-int FixedLagSmoother::sync_store(const std::function<bool(VariableId)>& eliminable)
+int FixedLagSmoother::sync_store(const SmootherClient& client)
 {
 	std::vector<VariableId> back, leaving;
 	for (VariableId v : store_->variables())
-		if (!problem_.variable(v).factors.empty()) back.push_back(v);
+		if (!problem_.variable(v).factors.empty() || client.prior_only(v) != PriorOnly::Store) back.push_back(v);
 	store_->release(problem_, prior_, back);
 	if (prior_.installed())
 		for (VariableId v : prior_.variables())
 		{
 			const auto& var = problem_.variable(v);
-			if (!var.constant && var.factors.size() == 1 && *var.factors.begin() == prior_.factor() && eliminable(v))
+			if (!var.constant && var.factors.size() == 1 && *var.factors.begin() == prior_.factor() &&
+				client.prior_only(v) == PriorOnly::Store)
 				leaving.push_back(v);
 		}
 	store_->absorb(problem_, prior_, leaving, opt_.marginalization_threshold);
@@ -67,38 +61,17 @@ FactorId FixedLagSmoother::add_factor(std::shared_ptr<const Factor> factor, std:
 
 void FixedLagSmoother::add_state(double time, VariableId var) { states_.push_back({time, var}); }
 
-bool FixedLagSmoother::over_lag() const { return opt_.lag > 0 && static_cast<int>(states_.size()) > opt_.lag; }
-
-std::size_t FixedLagSmoother::num_linear_states() const { return tail_->size(); }
-
 std::vector<LinearState> FixedLagSmoother::linear_states() const
 {
 	std::vector<LinearState> out;
-	for (const auto& c : tail_->conditionals())
-	{
-		out.push_back({c.time, c.state, *tail_->value(c.state)});
-	}
+	for (const auto& c : tail_->conditionals()) out.push_back({c.time, c.state, *tail_->value(c.state)});
 	return out;
 }
 
-const double* FixedLagSmoother::linear_value(VariableId v) const
+int FixedLagSmoother::tail_length() const
 {
-	const std::vector<double>* x = tail_->value(v);
-	return x ? x->data() : nullptr;
+	return opt_.relinearized > 0 && opt_.window > 0 ? opt_.window - opt_.relinearized : 0;
 }
-
-bool FixedLagSmoother::linear_over_lag() const { return static_cast<int>(tail_->size()) > opt_.linear_lag; }
-
-LinearState FixedLagSmoother::pop_oldest_linear()
-{
-	if (tail_->empty()) throw std::logic_error("FixedLagSmoother::pop_oldest_linear: no smoothed state");
-	const auto& c = tail_->conditionals().front();
-	LinearState s{c.time, c.state, *tail_->value(c.state)};
-	tail_->pop_front();
-	return s;
-}
-
-void FixedLagSmoother::smooth_linear_states() { tail_->back_substitute(problem_); }
 
 void FixedLagSmoother::freeze(VariableId v)
 {
@@ -125,48 +98,86 @@ int FixedLagSmoother::include_in_prior(VariableId v)
 	return prior_.add_variable(problem_, v);
 }
 
-void FixedLagSmoother::change_prior_variable(const VariableChange& change)
+bool FixedLagSmoother::change_prior_variable(VariableId old_var, const std::vector<VariableId>& others,
+											 const std::function<VariableChange(const PriorPoints&)>& make)
 {
-	activate(change.old_var);
-	const int old_index = prior_.index_of(change.old_var);
-	const std::vector<double> old_lin =
-		old_index >= 0 ? prior_.linearization_points()[static_cast<std::size_t>(old_index)] : std::vector<double>();
+	if (!in_prior(old_var)) return false;
+	if (store_->contains(old_var)) store_->release(problem_, prior_, {old_var});  // changed among the active
+	std::vector<int> index;
+	for (VariableId y : others) index.push_back(include_in_prior(y));
+	const auto& lin = prior_.linearization_points();
+	PriorPoints points;
+	const std::vector<double> old_lin = lin[static_cast<std::size_t>(prior_.index_of(old_var))];
+	points.old_lin = old_lin;
+	for (int i : index) points.others_lin.push_back(lin[static_cast<std::size_t>(i)]);
+	const VariableChange change = make(points);
+	if (change.old_var != old_var) throw std::invalid_argument("change_prior_variable: the change is of another variable");
 	prior_.change_variable(problem_, change);
 	store_->change_active(change);
 	// The tail takes the prior's linearisation points of the change (its relation holds around them).
-	tail_->change_variable(change, old_lin, [&](VariableId y) {
+	tail_->change_variable(change, *problem_.variable(change.old_var).manifold, old_lin, [&](VariableId y) {
 		return prior_.linearization_points()[static_cast<std::size_t>(prior_.index_of(y))];
 	});
 	if (opt_.first_estimate_jacobians) (*first_estimates_)[change.new_var] = change.first_estimate;
 	prior_.install(problem_);
+	return true;
 }
 
-UpdateSummary FixedLagSmoother::update(const std::function<bool(VariableId)>& eliminable,
-										const CovarianceRequest& covariance)
+UpdateSummary FixedLagSmoother::solve(const SmootherClient& client, const CovarianceRequest& covariance)
 {
 	UpdateSummary out;
-	if (opt_.eliminate_prior_only && opt_.store_prior_only)
-	{
-		out.prior_only_eliminated = sync_store(eliminable);
-		out.solver = swba::solve(problem_, opt_.solver, covariance, &out.covariance);
-		store_->set_values(problem_, prior_);
-		smooth_linear_states();
-		return out;
-	}
+	out.prior_only_eliminated = sync_store(client);
 	detail::PriorOnlyElimination elimination;
-	const bool reduced = opt_.eliminate_prior_only && prior_.installed() &&
-						 elimination.begin(problem_, prior_, opt_.marginalization_threshold, eliminable);
+	const auto eliminable = [&](VariableId v) { return client.prior_only(v) == PriorOnly::Eliminate; };
+	const bool reduced =
+		prior_.installed() && elimination.begin(problem_, prior_, opt_.marginalization_threshold, eliminable);
 	out.solver = swba::solve(problem_, opt_.solver, covariance, &out.covariance);
 	if (reduced)
 	{
-		out.prior_only_eliminated = elimination.num_eliminated();
+		out.prior_only_eliminated += elimination.num_eliminated();
 		elimination.end(problem_, prior_);
 	}
-	smooth_linear_states();
+	store_->set_values(problem_, prior_);
+	tail_->back_substitute(problem_);
 	return out;
 }
 
-Summary FixedLagSmoother::solve(const SolverOptions& options) { return swba::solve(problem_, options); }
+UpdateSummary FixedLagSmoother::update(SmootherClient& client, const CovarianceRequest& covariance)
+{
+	// Variables the caller removed from the problem: their first estimates go too (ids are not reused).
+	for (auto it = first_estimates_->begin(); it != first_estimates_->end();)
+		it = problem_.has_variable(it->first) ? std::next(it) : first_estimates_->erase(it);
+	UpdateSummary out = solve(client, covariance);
+	if (client.hold(out))
+	{
+		store_->set_values(problem_, prior_);
+		tail_->back_substitute(problem_);
+	}
+	client.solved(out);
+	const int relinearized = opt_.relinearized > 0 ? opt_.relinearized : opt_.window;
+	if (opt_.window > 0 && static_cast<int>(states_.size()) > relinearized) marginalize(client, out);
+	return out;
+}
+
+void FixedLagSmoother::marginalize(SmootherClient& client, UpdateSummary& out)
+{
+	const auto t0 = SteadyClock::now();
+	const TimedState oldest = states_.front();
+	const std::set<VariableId> also = client.leaving(oldest);
+	if (tail_length() == 0) client.left(oldest, problem_.variable(oldest.var).value);
+	MarginalizationSummary m = marginalize_oldest(also);
+	client.marginalized(oldest, m);
+	while (static_cast<int>(tail_->size()) > tail_length())
+	{
+		const auto& c = tail_->conditionals().front();
+		const TimedState s{c.time, c.state};
+		const std::vector<double> value = *tail_->value(c.state);
+		tail_->pop_front();
+		client.left(s, value);
+	}
+	out.marginalization = std::move(m);
+	out.marginalization_seconds = seconds_since(t0);
+}
 
 MarginalizationSummary FixedLagSmoother::marginalize_oldest(const std::set<VariableId>& also)
 {
@@ -198,15 +209,18 @@ MarginalizationSummary FixedLagSmoother::marginalize_oldest(const std::set<Varia
 		const double* x = linearization_point(v);
 		x_lin.emplace_back(x, x + problem_.variable(v).manifold->ambient_size());
 	}
-	// The store and the tail both need the conditional of the marginalised variables given the kept.
-	if (!store_->empty() || opt_.linear_lag > 0)
+	// One elimination: the marginal is the new prior; the store and the tail both need the conditional of
+	// the marginalised variables given the kept.
+	const bool conditional = !store_->empty() || tail_length() > 0;
+	GaussianElimination e =
+		eliminate(partition_leading(sys.H, sys.b, num_keep), opt_.marginalization_threshold, conditional);
+	if (conditional)
 	{
-		detail::TailConditional c =
-			detail::make_tail_conditional(problem_, keep, x_lin, margv, sys.H, sys.b, opt_.marginalization_threshold);
+		detail::TailConditional c = detail::make_tail_conditional(problem_, keep, x_lin, margv, std::move(e.conditional));
 		if (!store_->empty()) eliminate_from_store(c);
-		if (opt_.linear_lag > 0) push_linear_state(std::move(c), marg);
+		if (tail_length() > 0) push_linear_state(std::move(c), marg);
 	}
-	MarginalizationResult m = marginalize_leading(sys.H, sys.b, num_keep, opt_.marginalization_threshold);
+	MarginalizationResult m = std::move(e.marginal);
 	// Those factors and variables are replaced by the new prior.
 	if (prior_.installed() && factors.count(prior_.factor())) prior_.forget_factor();  // removed below
 	for (FactorId f : factors) problem_.remove_factor(f);

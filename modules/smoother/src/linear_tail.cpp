@@ -1,5 +1,7 @@
 #include "linear_tail.h"
 
+#include "conditional_mean.h"
+
 #include <swba/linear/marginal.h>
 
 #include <algorithm>
@@ -9,8 +11,7 @@ namespace swba::smoother::detail
 {
 TailConditional make_tail_conditional(const Problem& problem, const std::vector<VariableId>& keep,
 									  const std::vector<std::vector<double>>& keep_lin,
-									  const std::vector<VariableId>& marg, const Eigen::MatrixXd& H,
-									  const Eigen::VectorXd& b, double threshold)
+									  const std::vector<VariableId>& marg, GaussianConditional g)
 {
 	TailConditional c;
 	Eigen::Index num_keep = 0;
@@ -22,6 +23,7 @@ TailConditional make_tail_conditional(const Problem& problem, const std::vector<
 		c.sep_dims.push_back(var.manifold->tangent_size());
 		num_keep += var.manifold->tangent_size();
 	}
+	Eigen::Index num_marg = 0;
 	for (VariableId v : marg)
 	{
 		const auto& var = problem.variable(v);
@@ -29,10 +31,15 @@ TailConditional make_tail_conditional(const Problem& problem, const std::vector<
 		c.manifolds.push_back(var.manifold);
 		c.x_lin.push_back(var.value);
 		c.value.push_back(var.value);
+		num_marg += var.manifold->tangent_size();
 	}
-	const Eigen::Index nm = H.rows() - num_keep;
-	if (nm < 0 || H.cols() != H.rows() || b.size() != H.rows())
-		throw std::invalid_argument("make_tail_conditional: H, b and the variables' sizes disagree");
+	if (num_marg == 0)  // nothing but constants left: an empty conditional over the separator
+	{
+		g.K.setZero(0, num_keep);
+		g.k.setZero(0);
+	}
+	if (g.K.rows() != num_marg || g.K.cols() != num_keep || g.covariance.rows() != num_marg)
+		throw std::invalid_argument("make_tail_conditional: the conditional and the variables' sizes disagree");
 	Eigen::VectorXd s(num_keep);
 	for (std::size_t i = 0, off = 0; i < keep.size(); i++)
 	{
@@ -40,10 +47,10 @@ TailConditional make_tail_conditional(const Problem& problem, const std::vector<
 		var.manifold->minus(var.value.data(), keep_lin[i].data(), s.data() + off);
 		off += static_cast<std::size_t>(c.sep_dims[i]);
 	}
-	c.covariance = nm > 0 ? truncated_pseudo_inverse(H.bottomRightCorner(nm, nm), threshold) : Eigen::MatrixXd();
-	const Eigen::MatrixXd H_ms = H.bottomLeftCorner(nm, num_keep);
-	c.K = c.covariance * H_ms;
-	c.k = c.covariance * (b.tail(nm) + H_ms * s);
+	c.covariance = std::move(g.covariance);
+	c.K = std::move(g.K);
+	c.k = std::move(g.k);
+	c.k.noalias() += c.K * s;
 	return c;
 }
 
@@ -68,7 +75,7 @@ void LinearTail::back_substitute(const Problem& problem)
 	for (auto c = conditionals_.rbegin(); c != conditionals_.rend(); ++c)
 	{
 		if (c->vars.empty()) continue;
-		Eigen::VectorXd d = c->k;
+		ConditionalMean mean(c->k);
 		Eigen::VectorXd ds(c->K.cols());
 		for (std::size_t i = 0, off = 0; i < c->sep.size(); i++)
 		{
@@ -79,10 +86,10 @@ void LinearTail::back_substitute(const Problem& problem)
 				manifold_of(v)->minus(value(v)->data(), c->sep_lin[i].data(), ds.data() + off);
 			off += static_cast<std::size_t>(c->sep_dims[i]);
 		}
-		d.noalias() -= c->K * ds;
+		mean.condition(c->K, ds);
 		for (std::size_t j = 0, off = 0; j < c->vars.size(); j++)
 		{
-			c->manifolds[j]->plus(c->x_lin[j].data(), d.data() + off, c->value[j].data());
+			c->value[j] = mean.value(*c->manifolds[j], c->x_lin[j], static_cast<Eigen::Index>(off));
 			off += static_cast<std::size_t>(c->manifolds[j]->tangent_size());
 		}
 	}
@@ -98,7 +105,8 @@ const Manifold* LinearTail::manifold_of(VariableId v) const
 	throw std::logic_error("LinearTail: a separator variable left the problem without a conditional");
 }
 
-void LinearTail::change_variable(const VariableChange& change, const std::vector<double>& old_lin,
+void LinearTail::change_variable(const VariableChange& change, const Manifold& old_manifold,
+								 const std::vector<double>& old_lin,
 								 const std::function<std::vector<double>(VariableId)>& lin)
 {
 	for (auto& c : conditionals_)
@@ -106,34 +114,51 @@ void LinearTail::change_variable(const VariableChange& change, const std::vector
 		const auto it = std::find(c.sep.begin(), c.sep.end(), change.old_var);
 		if (it == c.sep.end()) continue;
 		const std::size_t j = static_cast<std::size_t>(it - c.sep.begin());
-		Eigen::Index c0 = 0;
-		for (std::size_t i = 0; i < j; i++) c0 += c.sep_dims[i];
-		// In the change's coordinates d'_old = d_old − (old_lin − x_lin_old), and d'_old = D (H_new d_new +
-		// Σ H_i d_yi) to first order: K_old d_old splits over new_var and the y_i.
+		const Eigen::Index c0 = column_of(c, j), n_old = c.sep_dims[j];
+		// In the change's coordinates d'_old = d_old − (old_lin ⊟ x_lin_old) (exact for a Euclidean
+		// old_var), and the change splits K_old d'_old over new_var and the y_i.
 		if (!old_lin.empty())
-			c.k -= c.K.middleCols(c0, 3) *
-				   (Eigen::Map<const Eigen::Vector3d>(old_lin.data()) - Eigen::Map<const Eigen::Vector3d>(c.sep_lin[j].data()));
-		const Eigen::MatrixXd KD = c.K.middleCols(c0, 3) * change.D;
-		for (const auto& [y, Hy] : change.H_poses)
 		{
+			Eigen::VectorXd t(n_old);
+			old_manifold.minus(old_lin.data(), c.sep_lin[j].data(), t.data());
+			c.k -= c.K.middleCols(c0, n_old) * t;
+		}
+		const auto blocks = change_columns(change, c.K.middleCols(c0, n_old));
+		for (std::size_t i = 1; i < blocks.size(); i++)
+		{
+			const auto& [y, Ky] = blocks[i];
 			const auto yt = std::find(c.sep.begin(), c.sep.end(), y);
 			if (yt != c.sep.end())
 			{
-				Eigen::Index cy = 0;
-				for (auto i = c.sep.begin(); i != yt; ++i) cy += c.sep_dims[static_cast<std::size_t>(i - c.sep.begin())];
-				c.K.middleCols(cy, Hy.cols()) += KD * Hy;
+				c.K.middleCols(column_of(c, static_cast<std::size_t>(yt - c.sep.begin())), Ky.cols()) += Ky;
 				continue;
 			}
 			const Eigen::Index n = c.K.cols();
-			c.K.conservativeResize(Eigen::NoChange, n + Hy.cols());
-			c.K.rightCols(Hy.cols()) = KD * Hy;
+			c.K.conservativeResize(Eigen::NoChange, n + Ky.cols());
+			c.K.rightCols(Ky.cols()) = Ky;
 			c.sep.push_back(y);
 			c.sep_lin.push_back(lin(y));
-			c.sep_dims.push_back(static_cast<int>(Hy.cols()));
+			c.sep_dims.push_back(static_cast<int>(Ky.cols()));
 		}
-		c.K.middleCols(c0, 3) = KD * change.H_new;
+		const Eigen::MatrixXd& K_new = blocks[0].second;
+		if (K_new.cols() == n_old)
+			c.K.middleCols(c0, n_old) = K_new;
+		else
+		{
+			Eigen::MatrixXd K(c.K.rows(), c.K.cols() - n_old + K_new.cols());
+			K << c.K.leftCols(c0), K_new, c.K.rightCols(c.K.cols() - c0 - n_old);
+			c.K = std::move(K);
+		}
 		c.sep[j] = change.new_var;
 		c.sep_lin[j] = change.new_x_lin;
+		c.sep_dims[j] = static_cast<int>(K_new.cols());
 	}
+}
+
+Eigen::Index LinearTail::column_of(const TailConditional& c, std::size_t j)
+{
+	Eigen::Index c0 = 0;
+	for (std::size_t i = 0; i < j; i++) c0 += c.sep_dims[i];
+	return c0;
 }
 }  // namespace swba::smoother::detail

@@ -12,7 +12,7 @@
  * factors beyond the re-linearised window are frozen at their linearisation (iSAM's square-root
  * information smoother without relinearisation of the old part). Cost per step: one product of each
  * conditional's K with its separator's offset, O(dim M · dim S).
- * A change of variables in the prior (an inverse-depth landmark switched to world XYZ) rewrites the
+ * A change of variables in the prior (VariableChange, e.g. a re-parameterised point) rewrites the
  * columns of every conditional that holds the old variable, as it rewrites the prior's. */
 #pragma once
 
@@ -68,24 +68,25 @@ class LinearTail
 	void back_substitute(const Problem& problem);
 	/** The change of variables `change` (see VariableChange; its relation holds around `old_lin`, old_var's
 	 * point, new_x_lin and `lin(y_i)`) in every conditional holding old_var: a conditional linearised
-	 * elsewhere first moves its old_var coordinates there (exact: old_var is Euclidean), and a pose y_i
-	 * not yet in its separator joins it. An empty `old_lin` means the conditionals' own points. */
-	void change_variable(const VariableChange& change, const std::vector<double>& old_lin,
+	 * elsewhere first moves its old_var coordinates there (exact when old_var is Euclidean), and a
+	 * variable y_i not yet in its separator joins it. An empty `old_lin` means the conditionals' own
+	 * points. */
+	void change_variable(const VariableChange& change, const Manifold& old_manifold, const std::vector<double>& old_lin,
 						 const std::function<std::vector<double>(VariableId)>& lin);
 
    private:
+	/** First column of separator variable j in c.K. */
+	static Eigen::Index column_of(const TailConditional& c, std::size_t j);
 	/** The manifold of a variable of the tail (throws std::logic_error if none holds it). */
 	const Manifold* manifold_of(VariableId v) const;
 
 	std::deque<TailConditional> conditionals_;
 };
 
-/** The conditional of the trailing variables `marg` of (H, b) (over `keep` then `marg`, in δ = x ⊟ x_current
- * at the values of `problem`) given `keep`, re-expressed around `keep_lin`: d_M = k − K d_S with
- * K = H_MM⁻¹ H_MS and k = H_MM⁻¹ (b_M + H_MS s), s = x_current ⊟ keep_lin; H_MM through
- * truncated_pseudo_inverse(·, threshold). */
+/** The conditional `g` of the variables `marg` given `keep` (swba::eliminate's, with its covariance, in
+ * δ = x ⊟ x_current at the values of `problem`) re-expressed around `keep_lin`: d_M = k − K d_S with
+ * k = g.k + g.K s, s = x_current ⊟ keep_lin. */
 TailConditional make_tail_conditional(const Problem& problem, const std::vector<VariableId>& keep,
 									  const std::vector<std::vector<double>>& keep_lin,
-									  const std::vector<VariableId>& marg, const Eigen::MatrixXd& H,
-									  const Eigen::VectorXd& b, double threshold);
+									  const std::vector<VariableId>& marg, GaussianConditional g);
 }  // namespace swba::smoother::detail

@@ -14,6 +14,24 @@ int MarginalPrior::index_of(VariableId v) const
 	return it == vars_.end() ? -1 : static_cast<int>(it - vars_.begin());
 }
 
+MarginalPrior::Partition MarginalPrior::partition(const Problem& problem,
+												  const std::function<bool(VariableId)>& in_first) const
+{
+	Partition p;
+	int off = 0;
+	for (std::size_t i = 0; i < vars_.size(); i++)
+	{
+		const int n = problem.variable(vars_[i]).manifold->tangent_size();
+		const bool first = in_first(vars_[i]);
+		(first ? p.first : p.second).push_back(i);
+		for (int c = 0; c < n; c++) (first ? p.first_columns : p.second_columns).push_back(off + c);
+		off += n;
+	}
+	const Eigen::Index cols = has_information_ ? H_.cols() : J_.cols();
+	if (off != cols) throw std::invalid_argument("MarginalPrior::partition: the prior's size and variables disagree");
+	return p;
+}
+
 int MarginalPrior::column_of(const Problem& problem, int index) const
 {
 	int off = 0;
@@ -165,18 +183,53 @@ void MarginalPrior::refresh_information(int c0, int n)
 	b_.segment(c0, n) = -(J_.middleCols(c0, n).transpose() * e_);
 }
 
+std::vector<std::pair<VariableId, Eigen::MatrixXd>> change_columns(const VariableChange& change,
+																   const Eigen::MatrixXd& M_old)
+{
+	if (M_old.cols() != change.D.rows() || change.D.cols() != change.H_new.rows())
+		throw std::invalid_argument("change_columns: the change's sizes disagree");
+	const Eigen::MatrixXd MD = M_old * change.D;
+	std::vector<std::pair<VariableId, Eigen::MatrixXd>> out{{change.new_var, MD * change.H_new}};
+	for (const auto& [y, H] : change.H_others)
+	{
+		if (H.rows() != change.D.cols()) throw std::invalid_argument("change_columns: the change's sizes disagree");
+		out.emplace_back(y, MD * H);
+	}
+	return out;
+}
+
 void MarginalPrior::change_variable(const Problem& problem, const VariableChange& change)
 {
 	const int idx = index_of(change.old_var);
 	const int col = column_of(problem, idx);
-	std::vector<int> pose_cols;
-	for (const auto& [y, H] : change.H_poses) pose_cols.push_back(column_of(problem, index_of(y)));
-	const Eigen::MatrixXd J_old = J_.middleCols(col, 3);
-	for (std::size_t i = 0; i < pose_cols.size(); i++)
-		J_.middleCols(pose_cols[i], 6) += J_old * change.D * change.H_poses[i].second;
-	J_.middleCols(col, 3) = J_old * change.D * change.H_new;
-	for (int c : pose_cols) refresh_information(c, 6);
-	refresh_information(col, 3);
+	const int n_old = problem.variable(change.old_var).manifold->tangent_size();
+	const auto blocks = change_columns(change, J_.middleCols(col, n_old));
+	// The y_i (already in the prior) gain their share first, then old_var's columns become new_var's.
+	std::vector<std::pair<int, int>> changed;
+	for (std::size_t i = 1; i < blocks.size(); i++)
+	{
+		const int c = column_of(problem, index_of(blocks[i].first));
+		J_.middleCols(c, blocks[i].second.cols()) += blocks[i].second;
+		changed.push_back({c, static_cast<int>(blocks[i].second.cols())});
+	}
+	const Eigen::Index n_new = blocks[0].second.cols();
+	if (n_new == n_old)
+	{
+		J_.middleCols(col, n_old) = blocks[0].second;
+		for (const auto& [c, n] : changed) refresh_information(c, n);
+		refresh_information(col, n_old);
+	}
+	else  // the column layout changes: H and b anew
+	{
+		Eigen::MatrixXd J(J_.rows(), J_.cols() - n_old + n_new);
+		J << J_.leftCols(col), blocks[0].second, J_.rightCols(J_.cols() - col - n_old);
+		J_ = std::move(J);
+		if (has_information_)
+		{
+			H_ = J_.transpose() * J_;
+			b_ = -(J_.transpose() * e_);
+		}
+	}
 	vars_[static_cast<std::size_t>(idx)] = change.new_var;
 	x_lin_[static_cast<std::size_t>(idx)] = change.new_x_lin;
 }

@@ -2,15 +2,15 @@
  * (private to the smoother module) Eliminating the variables only the marginal prior touches from a
  * step's LM solve, exactly.
  *
- * With the SLAM policy every landmark stays in the state, but a landmark that no pose of the window
- * observes any more is connected to nothing but the marginal prior r = e + J (x ⊟ x_lin). That prior is
- * linear in such a landmark's update δp = x_p ⊟ x_p,lin, so for any value of the other variables a its best value is the
- * conditional minimiser δp = H_pp⁻¹ (b_p − H_pa δa) (H = JᵀJ, b = −Jᵀe), and what is left of the prior
- * is its marginal over a: H_aa − H_ap H_pp⁻¹ H_pa (the Schur complement). Solving the window with that
- * reduced prior and the prior-only landmarks held constant, then setting them to the conditional
- * minimiser, reaches the same optimum as solving the full problem, but every LM iteration works on a
- * dense system of (active landmarks + window poses) instead of (every landmark ever seen + poses).
- * The full prior is restored afterwards, so marginalisation and re-observations see the whole map. */
+ * A variable no state of the window relates to any more (e.g. in a SLAM map) is connected to nothing
+ * but the marginal prior r = e + J (x ⊟ x_lin). That prior is linear in its update δp = x_p ⊟ x_p,lin,
+ * so for any value of the other variables a its best value is the conditional minimiser
+ * δp = H_pp⁻¹ (b_p − H_pa δa) (H = JᵀJ, b = −Jᵀe), and what is left of the prior is its marginal over a:
+ * H_aa − H_ap H_pp⁻¹ H_pa (the Schur complement). Solving the window with that reduced prior and the
+ * prior-only variables held constant, then setting them to the conditional minimiser, reaches the same
+ * optimum as solving the full problem, but every LM iteration works on a dense system of the active
+ * variables only. The full prior is restored afterwards, so marginalisation and later factors see all
+ * of it. */
 #pragma once
 
 #include <swba/nonlinear/problem.h>
@@ -26,7 +26,7 @@ namespace swba::smoother::detail
 class PriorOnlyElimination
 {
    public:
-	/** If some variables of the installed `prior` satisfy `eliminable` (landmarks; set back as x_lin ⊞ δp),
+	/** If some variables of the installed `prior` satisfy `eliminable` (set back as x_lin ⊞ δp),
 	 * are not constant and have no factor but the prior, uninstalls the prior, adds its marginal over the
 	 * other variables and makes those prior-only variables constant; returns true. Otherwise changes
 	 * nothing and returns false. The prior's information form is used when known, else (J, e).
@@ -44,7 +44,7 @@ class PriorOnlyElimination
 	/** Splits the prior's variables; false when none is prior-only. Fills pcols/acols (scalar columns). */
 	bool split(const Problem& problem, const MarginalPrior& prior, const std::function<bool(VariableId)>& eliminable);
 	/** Swaps the prior factor for the reduced one (the marginal of the conditional elimination `c`). */
-	void reduce(Problem& problem, MarginalPrior& prior, ConditionalElimination c);
+	void reduce(Problem& problem, MarginalPrior& prior, GaussianElimination c);
 
 	std::vector<int> pcols_, acols_;
 	std::vector<std::shared_ptr<const Manifold>> amanifolds_;

@@ -1,5 +1,7 @@
 #include "prior_only_store.h"
 
+#include "conditional_mean.h"
+
 #include <swba/linear/marginal.h>
 #include <swba/linear/rank_update.h>
 
@@ -12,19 +14,6 @@ namespace swba::smoother::detail
 {
 namespace
 {
-/** The inverse of a symmetric positive semi-definite block: by Cholesky when it is clearly positive
- * definite, else the thresholded pseudo-inverse (as swba::eliminate_conditional applies it). */
-Eigen::MatrixXd spd_inverse(const Eigen::MatrixXd& A, double threshold)
-{
-	Eigen::LLT<Eigen::MatrixXd> llt(A);
-	if (llt.info() == Eigen::Success)
-	{
-		const Eigen::VectorXd d = llt.matrixL().toDenseMatrix().diagonal().cwiseAbs2();
-		if (d.minCoeff() > threshold * d.maxCoeff()) return llt.solve(Eigen::MatrixXd::Identity(A.rows(), A.cols()));
-	}
-	return truncated_pseudo_inverse(A, threshold);
-}
-
 /** F with F Fᵀ = S for a symmetric positive semi-definite S: its Cholesky factor when S is positive
  * definite, else V √D⁺ from its eigendecomposition (negative rounding clamped to zero). */
 Eigen::MatrixXd psd_factor(const Eigen::MatrixXd& S)
@@ -204,49 +193,49 @@ void PriorOnlyStore::compact_if_sparse()
 	free_.clear();
 }
 
+PriorOnlyStore::PriorSplit PriorOnlyStore::split_prior(const Problem& problem, const MarginalPrior& prior,
+														const std::vector<VariableId>& vars)
+{
+	const auto& pvars = prior.variables();
+	MarginalPrior::Partition part = prior.partition(
+		problem, [&](VariableId v) { return std::find(vars.begin(), vars.end(), v) != vars.end(); });
+	PriorSplit sp;
+	for (std::size_t i : part.first)
+	{
+		const auto& var = problem.variable(pvars[i]);
+		sp.joining.push_back({pvars[i], -1, var.manifold->tangent_size(), prior.linearization_points()[i], var.manifold});
+	}
+	for (std::size_t i : part.second)
+	{
+		sp.avars.push_back(pvars[i]);
+		sp.adims.push_back(problem.variable(pvars[i]).manifold->tangent_size());
+		sp.alin.push_back(prior.linearization_points()[i]);
+	}
+	if (sp.joining.size() != vars.size()) throw std::invalid_argument("PriorOnlyStore::absorb: variable not in the prior");
+	sp.lcols = std::move(part.first_columns);
+	sp.acols = std::move(part.second_columns);
+	return sp;
+}
+
 void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::vector<VariableId>& vars,
 							double threshold)
 {
 	if (vars.empty()) return;
 	// The prior's columns of the leaving variables (l) and of the others (a).
-	std::vector<int> lcols, acols;
-	std::vector<VariableId> avars;
-	std::vector<int> adims;
-	std::vector<std::vector<double>> alin;
-	std::vector<Member> joining;
-	const auto& pvars = prior.variables();
-	int off = 0;
-	for (std::size_t i = 0; i < pvars.size(); i++)
-	{
-		const auto& var = problem.variable(pvars[i]);
-		const int n = var.manifold->tangent_size();
-		const bool leaving = std::find(vars.begin(), vars.end(), pvars[i]) != vars.end();
-		for (int c = 0; c < n; c++) (leaving ? lcols : acols).push_back(off + c);
-		if (leaving)
-			joining.push_back({pvars[i], -1, n, prior.linearization_points()[i], var.manifold});
-		else
-		{
-			avars.push_back(pvars[i]);
-			adims.push_back(n);
-			alin.push_back(prior.linearization_points()[i]);
-		}
-		off += n;
-	}
-	if (joining.size() != vars.size()) throw std::invalid_argument("PriorOnlyStore::absorb: variable not in the prior");
+	PriorSplit sp = split_prior(problem, prior, vars);
 	const Eigen::MatrixXd H = prior.has_information() ? prior.H() : Eigen::MatrixXd(prior.J().transpose() * prior.J());
 	const Eigen::VectorXd b = prior.has_information() ? prior.b() : Eigen::VectorXd(-(prior.J().transpose() * prior.e()));
-	PartitionedNormalEquations s = partition_normal_equations(H, b, lcols, acols);
-	Eigen::MatrixXd C_ll = spd_inverse(s.Hpp, threshold);
-	C_ll = (0.5 * (C_ll + C_ll.transpose())).eval();  // (the solve's inverse is symmetric to rounding only)
-	ConditionalElimination c = eliminate_conditional(std::move(s), threshold);
+	PartitionedNormalEquations s = partition_normal_equations(H, b, sp.lcols, sp.acols);
+	GaussianElimination c = swba::eliminate(std::move(s), threshold, true);
+	const Eigen::MatrixXd C_ll = 0.5 * (c.conditional.covariance + c.conditional.covariance.transpose());
 
 	// Rows for the joining variables, then the stored rows' dependence on them, K_pl (zero in new rows).
-	for (auto& m : joining) m.offset = allocate(m.dim);
-	const Eigen::Index n = used_, nl = static_cast<Eigen::Index>(lcols.size());
+	for (auto& m : sp.joining) m.offset = allocate(m.dim);
+	const Eigen::Index n = used_, nl = static_cast<Eigen::Index>(sp.lcols.size());
 	Eigen::MatrixXd K_pl = Eigen::MatrixXd::Zero(n, nl);
 	{
 		Eigen::Index c0 = 0;
-		for (const auto& m : joining)
+		for (const auto& m : sp.joining)
 		{
 			auto it = K_.find(m.var);
 			if (it != K_.end())
@@ -257,21 +246,40 @@ void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::v
 			c0 += m.dim;
 		}
 	}
-	// Substitute d_l = k_l − K_la d_a + ε_l in the stored rows, then write l's own rows.
-	k_.head(n).noalias() -= K_pl * c.k;
-	for (std::size_t i = 0, c0 = 0; i < avars.size(); c0 += static_cast<std::size_t>(adims[i]), i++)
+	substitute_joining(sp, K_pl, c.conditional);
+	write_joining(sp.joining, K_pl, C_ll, c.conditional.k);
+	for (auto& m : sp.joining)
 	{
-		const Eigen::MatrixXd K_la = c.K.middleCols(static_cast<Eigen::Index>(c0), adims[i]);
-		auto it = K_.find(avars[i]);
-		if (it == K_.end()) it = K_.emplace(avars[i], Eigen::MatrixXd::Zero(k_.size(), adims[i])).first;
+		problem.set_constant(m.var, true);
+		members_.push_back(std::move(m));
+	}
+	prior.assign(problem, std::move(sp.avars), std::move(c.marginal), std::move(sp.alin));
+}
+
+void PriorOnlyStore::substitute_joining(const PriorSplit& sp, const Eigen::MatrixXd& K_pl, const GaussianConditional& c)
+{
+	// Substitute d_l = k_l − K_la d_a + ε_l in the stored rows, then write l's own rows of K.
+	const Eigen::Index n = used_;
+	k_.head(n).noalias() -= K_pl * c.k;
+	for (std::size_t i = 0, c0 = 0; i < sp.avars.size(); c0 += static_cast<std::size_t>(sp.adims[i]), i++)
+	{
+		const Eigen::MatrixXd K_la = c.K.middleCols(static_cast<Eigen::Index>(c0), sp.adims[i]);
+		auto it = K_.find(sp.avars[i]);
+		if (it == K_.end()) it = K_.emplace(sp.avars[i], Eigen::MatrixXd::Zero(k_.size(), sp.adims[i])).first;
 		it->second.topRows(n).noalias() -= K_pl * K_la;
 		Eigen::Index r0 = 0;
-		for (const auto& m : joining)
+		for (const auto& m : sp.joining)
 		{
 			it->second.middleRows(m.offset, m.dim) = K_la.middleRows(r0, m.dim);
 			r0 += m.dim;
 		}
 	}
+}
+
+void PriorOnlyStore::write_joining(const std::vector<Member>& joining, const Eigen::MatrixXd& K_pl,
+								   const Eigen::MatrixXd& C_ll, const Eigen::VectorXd& k_l)
+{
+	const Eigen::Index n = used_;
 	const Eigen::MatrixXd KC = K_pl * C_ll;
 	add_update(K_pl * psd_factor(C_ll), 1.0);
 	// l's rows: k_l, the cross-covariance −K_pl C_ll with every stored row (its row and its column, so
@@ -279,7 +287,7 @@ void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::v
 	for (Eigen::Index i = 0, r0 = 0; i < static_cast<Eigen::Index>(joining.size()); r0 += joining[i].dim, i++)
 	{
 		const Member& m = joining[static_cast<std::size_t>(i)];
-		k_.segment(m.offset, m.dim) = c.k.segment(r0, m.dim);
+		k_.segment(m.offset, m.dim) = k_l.segment(r0, m.dim);
 		C_.middleCols(m.offset, m.dim).topRows(n) = -KC.middleCols(r0, m.dim);
 		C_.middleRows(m.offset, m.dim).leftCols(n) = -KC.middleCols(r0, m.dim).transpose();
 	}
@@ -289,19 +297,13 @@ void PriorOnlyStore::absorb(Problem& problem, MarginalPrior& prior, const std::v
 			const Member &m = joining[static_cast<std::size_t>(i)], &q = joining[static_cast<std::size_t>(j)];
 			C_.block(m.offset, q.offset, m.dim, q.dim) = C_ll.block(r0, s0, m.dim, q.dim);
 		}
-	for (auto& m : joining)
-	{
-		problem.set_constant(m.var, true);
-		members_.push_back(std::move(m));
-	}
-	prior.assign(problem, std::move(avars), std::move(c.marginal), std::move(alin));
 }
 
 void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::vector<VariableId>& vars)
 {
 	if (vars.empty()) return;
 	const std::vector<int> lrows = rows_of(vars);
-	const Eigen::Index n = used_, nl = static_cast<Eigen::Index>(lrows.size());
+	const Eigen::Index nl = static_cast<Eigen::Index>(lrows.size());
 	const Eigen::MatrixXd C_pl = covariance_columns(lrows);  // all stored rows, l's own included
 	const Eigen::MatrixXd C_ll = gather_rows(C_pl, lrows);
 	const Eigen::LLT<Eigen::MatrixXd> llt(C_ll);
@@ -320,17 +322,13 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 		n0 += problem.variable(v).manifold->tangent_size();
 	}
 	Eigen::MatrixXd J_rows = Eigen::MatrixXd::Zero(nl, n0 + nl);
-	Eigen::VectorXd d_l = k_l;
+	ConditionalMean d_l(k_l);
 	for (const auto& [w, K] : K_)
 	{
-		const int idx = prior.index_of(w);
-		if (idx < 0) throw std::logic_error("PriorOnlyStore::release: a conditioning variable left the prior");
+		const int idx = active_index(prior, w);
 		const Eigen::MatrixXd K_lw = gather_rows(K, lrows);
 		J_rows.middleCols(col_of_var[static_cast<std::size_t>(idx)], K.cols()) = K_lw;
-		Eigen::VectorXd dw(K.cols());
-		problem.variable(w).manifold->minus(problem.value(w), prior.linearization_points()[static_cast<std::size_t>(idx)].data(),
-											dw.data());
-		d_l.noalias() -= K_lw * dw;
+		d_l.condition(K_lw, active_offset(problem, prior, w, idx));
 	}
 	J_rows.rightCols(nl).setIdentity();
 	J_rows = llt.matrixL().solve(J_rows).eval();
@@ -342,9 +340,7 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 		{
 			x_lin.push_back(linearization_point(v));
 			const Manifold& m = *problem.variable(v).manifold;
-			std::vector<double> x(x_lin.back().size());
-			m.plus(x_lin.back().data(), d_l.data() + off, x.data());
-			problem.set_value(v, x.data());
+			problem.set_value(v, d_l.value(m, x_lin.back(), off).data());
 			problem.set_constant(v, false);
 			off += m.tangent_size();
 		}
@@ -357,6 +353,16 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 		return;
 	}
 
+	condition_on_released(problem, vars, lrows, C_pl, llt, k_l);
+	remove_members(vars);
+	prior.append_rows(problem, vars, x_lin, J_rows, e_rows);
+}
+
+void PriorOnlyStore::condition_on_released(const Problem& problem, const std::vector<VariableId>& vars,
+										   const std::vector<int>& lrows, const Eigen::MatrixXd& C_pl,
+										   const Eigen::LLT<Eigen::MatrixXd>& llt, const Eigen::VectorXd& k_l)
+{
+	const Eigen::Index n = used_;
 	// The others conditioned on l as well (their mean at l's mean is unchanged): G = C_pl C_ll⁻¹,
 	// k_p −= G k_l, K_p −= G K_l, K_pl = −G, C_pp −= G C_lp = W Wᵀ with W = C_pl L⁻ᵀ (l's own rows,
 	// garbage, are freed below).
@@ -380,6 +386,10 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 		}
 	}
 	add_update(Wt.transpose(), -1.0);
+}
+
+void PriorOnlyStore::remove_members(const std::vector<VariableId>& vars)
+{
 	for (VariableId v : vars)
 	{
 		auto it = std::find_if(members_.begin(), members_.end(), [v](const Member& m) { return m.var == v; });
@@ -394,7 +404,6 @@ void PriorOnlyStore::release(Problem& problem, MarginalPrior& prior, const std::
 		free_.erase(last);
 	}
 	compact_if_sparse();
-	prior.append_rows(problem, vars, x_lin, J_rows, e_rows);
 }
 
 void PriorOnlyStore::eliminate(const std::vector<VariableId>& marg, const std::vector<int>& marg_dims,
@@ -431,39 +440,40 @@ void PriorOnlyStore::change_active(const VariableChange& change)
 {
 	auto it = K_.find(change.old_var);
 	if (it == K_.end()) return;
-	const Eigen::MatrixXd KD = it->second * change.D;
+	const auto blocks = change_columns(change, it->second);
 	K_.erase(it);
-	for (const auto& [y, Hy] : change.H_poses)
+	for (std::size_t i = 1; i < blocks.size(); i++)
 	{
-		const Eigen::MatrixXd upd = KD * Hy;
-		auto jt = K_.find(y);
+		auto jt = K_.find(blocks[i].first);
 		if (jt == K_.end())
-			K_[y] = upd;
+			K_[blocks[i].first] = blocks[i].second;
 		else
-			jt->second += upd;
+			jt->second += blocks[i].second;
 	}
-	K_[change.new_var] = KD * change.H_new;
+	K_[change.new_var] = blocks[0].second;
 }
 
 void PriorOnlyStore::set_values(Problem& problem, const MarginalPrior& prior) const
 {
 	if (empty()) return;
 	const Eigen::Index n = used_;
-	Eigen::VectorXd d = k_.head(n);
-	for (const auto& [w, K] : K_)
-	{
-		const int idx = prior.index_of(w);
-		if (idx < 0) throw std::logic_error("PriorOnlyStore::set_values: a conditioning variable left the prior");
-		Eigen::VectorXd dw(K.cols());
-		problem.variable(w).manifold->minus(problem.value(w), prior.linearization_points()[static_cast<std::size_t>(idx)].data(),
-											dw.data());
-		d.noalias() -= K.topRows(n) * dw;
-	}
-	for (const auto& m : members_)
-	{
-		std::vector<double> x(m.x_lin.size());
-		m.manifold->plus(m.x_lin.data(), d.data() + m.offset, x.data());
-		problem.set_value(m.var, x.data());
-	}
+	ConditionalMean d(k_.head(n));
+	for (const auto& [w, K] : K_) d.condition(K.topRows(n), active_offset(problem, prior, w, active_index(prior, w)));
+	for (const auto& m : members_) problem.set_value(m.var, d.value(*m.manifold, m.x_lin, m.offset).data());
+}
+
+int PriorOnlyStore::active_index(const MarginalPrior& prior, VariableId w)
+{
+	const int idx = prior.index_of(w);
+	if (idx < 0) throw std::logic_error("PriorOnlyStore: a conditioning variable left the prior");
+	return idx;
+}
+
+Eigen::VectorXd PriorOnlyStore::active_offset(const Problem& problem, const MarginalPrior& prior, VariableId w, int idx)
+{
+	const Manifold& m = *problem.variable(w).manifold;
+	Eigen::VectorXd dw(m.tangent_size());
+	m.minus(problem.value(w), prior.linearization_points()[static_cast<std::size_t>(idx)].data(), dw.data());
+	return dw;
 }
 }  // namespace swba::smoother::detail

@@ -3,8 +3,8 @@
  * their Gaussian conditional given the prior's other variables, updated step by step instead of
  * re-eliminated at every solve.
  *
- * With the SLAM policy every landmark ever seen stays in the prior, but a landmark no window pose
- * observes is connected to nothing else. Split the prior's variables into those (p, "prior-only") and
+ * An estimator that keeps every variable it ever estimated (a SLAM map) leaves many of them connected
+ * to nothing but the prior once no state of the window relates to them. Split the prior's variables into those (p, "prior-only") and
  * the others (a, "active"); in the prior's coordinates d = x ⊟ x_lin the prior is exactly
  *     p(d_a, d_p) = N(d_a; prior over a) · N(d_p; k − K d_a, C),
  * the marginal over a (what the window's solve needs, in the MarginalPrior) times the conditional of p
@@ -15,13 +15,14 @@
  *   - absorb(): an active variable that lost its last factor but the prior leaves a, conditioned on the
  *     rest from the prior's information (H_ll⁻¹ b_l, H_ll⁻¹ H_la, H_ll⁻¹), and the prior keeps its
  *     marginal;
- *   - release(): a variable that gained a factor (a returning landmark) goes back: the prior is
+ *   - release(): a variable that gained a factor (e.g. observed again) goes back: the prior is
  *     multiplied by its conditional N(d_l; k_l − K_l d_a, C_ll), and the other prior-only variables are
  *     conditioned on it (C ← C − C_pl C_ll⁻¹ C_lp);
  *   - change_active(): a change of variables in the prior rewrites K's columns as it rewrites J's.
  * Each costs O(|p|² · its rank) at most, where re-eliminating p from the whole prior at every step cost
- * O(|p|³): the window's cost per step no longer grows with the map's cube. The split is exact (same
- * Gaussian, rounding aside), so the estimates are those of keeping every landmark in the prior.
+ * O(|p|³): the window's cost per step no longer grows with the cube of the prior-only dimension. The
+ * split is exact (same Gaussian, rounding aside), so the estimates are those of keeping them all in the
+ * prior.
  * K is kept by active variable (a block of columns each), so the prior may reorder its variables. */
 #pragma once
 
@@ -29,6 +30,7 @@
 #include <swba/nonlinear/problem.h>
 #include <swba/smoother/marginal_prior.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <map>
 #include <memory>
@@ -73,6 +75,11 @@ class PriorOnlyStore
 	void clear() { *this = PriorOnlyStore(); }
 
    private:
+	/** Index of the conditioning variable w in `prior` (throws std::logic_error if it left). */
+	static int active_index(const MarginalPrior& prior, VariableId w);
+	/** δ_w = x_w ⊟ x_lin,w at the problem's value and the prior's point (w at `idx` in the prior). */
+	static Eigen::VectorXd active_offset(const Problem& problem, const MarginalPrior& prior, VariableId w, int idx);
+
 	struct Member
 	{
 		VariableId var;
@@ -81,6 +88,29 @@ class PriorOnlyStore
 		std::vector<double> x_lin;
 		std::shared_ptr<const Manifold> manifold;
 	};
+	/** absorb(): the prior's variables split into those joining the store (l) and the others (a). */
+	struct PriorSplit
+	{
+		std::vector<int> lcols, acols;  ///< scalar columns of l and of a in the prior
+		std::vector<VariableId> avars;
+		std::vector<int> adims;
+		std::vector<std::vector<double>> alin;
+		std::vector<Member> joining;
+	};
+	static PriorSplit split_prior(const Problem& problem, const MarginalPrior& prior, const std::vector<VariableId>& vars);
+	/** absorb(): the stored rows (dependence K_pl on l) conditioned on a through l's conditional `c`,
+	 * and l's own rows of K. */
+	void substitute_joining(const PriorSplit& sp, const Eigen::MatrixXd& K_pl, const GaussianConditional& c);
+	/** absorb(): l's mean, its covariance C_ll and its cross-covariance with the stored rows. */
+	void write_joining(const std::vector<Member>& joining, const Eigen::MatrixXd& K_pl, const Eigen::MatrixXd& C_ll,
+					   const Eigen::VectorXd& k_l);
+	/** release(): the other stored rows conditioned on the released variables (rows `lrows`, their
+	 * columns C_pl of C, C_ll = L Lᵀ in `llt`, mean k_l). */
+	void condition_on_released(const Problem& problem, const std::vector<VariableId>& vars, const std::vector<int>& lrows,
+							   const Eigen::MatrixXd& C_pl, const Eigen::LLT<Eigen::MatrixXd>& llt,
+							   const Eigen::VectorXd& k_l);
+	/** release(): frees the rows of the released members. */
+	void remove_members(const std::vector<VariableId>& vars);
 	/** Rows of the members `vars`, in their order. */
 	std::vector<int> rows_of(const std::vector<VariableId>& vars) const;
 	/** Rows for a new member of `dim`: a free slot of that size, else appended (storage grows). */
@@ -103,7 +133,7 @@ class PriorOnlyStore
 	static constexpr int kMaxPending = 24;
 
 	// Rows [0, used_) of k, K and C are members' rows or free slots (zero); storage may be larger, so
-	// that a landmark joining or leaving costs no copy of C (updates are in place, O(used²) per rank).
+	// that a variable joining or leaving costs no copy of C (updates are in place, O(used²) per rank).
 	std::vector<Member> members_;
 	std::vector<std::pair<int, int>> free_;  ///< (offset, dim) of free slots below used_
 	int used_ = 0;

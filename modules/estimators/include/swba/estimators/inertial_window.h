@@ -5,7 +5,7 @@
  * ImuPreintegrationFactor between consecutive keyframes, a PosePriorFactor per pose prior, a
  * BetweenPoseFactor per odometry increment between consecutive keyframes (increments composed when the
  * odometry is faster than the keyframes) and Euclidean priors on the first velocity and biases. The oldest
- * keyframe leaves with its velocity and biases through FixedLagSmoother::marginalize_oldest (the (J, e,
+ * keyframe leaves with its velocity and biases in FixedLagSmoother::update (the graph is its client; the (J, e,
  * x₀) prior and first-estimate Jacobians unchanged). After each update, an IMU factor whose b_i moved from
  * its pre-integration's linearisation bias by more than the thresholds is re-integrated and replaced.
  *

@@ -8,9 +8,10 @@
  * JᵀJ = H*, Jᵀe = −b*.
  *
  * Numerics (why these decompositions): H_mm (small: the leaving pose and the landmarks leaving with
- * it) is inverted through a self-adjoint eigen-decomposition with the relative threshold, so a
- * rank-deficient marginalised block (an unobservable direction of the dropped variables) is
- * pseudo-inverted instead of blowing up. H* is symmetrised and kept in square-root form: J = Lᵀ from a
+ * it) is applied through SymmetricInverse, a Cholesky solve when it is clearly positive definite and
+ * otherwise a self-adjoint eigen-decomposition with the relative threshold, so a rank-deficient
+ * marginalised block (an unobservable direction of the dropped variables) is pseudo-inverted instead
+ * of blowing up. H* is symmetrised and kept in square-root form: J = Lᵀ from a
  * Cholesky factor when H* is clearly positive definite, else from a rank-revealing pivoted Cholesky
  * (Pᵀ H* P ≈ L Lᵀ, pivoting on the largest remaining diagonal, LAPACK's dpstrf scheme) stopped at the
  * first pivot not above rel_threshold times the largest diagonal of the kept block before elimination:
@@ -25,6 +26,7 @@
  * the same reason). */
 #pragma once
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <vector>
 
@@ -53,25 +55,6 @@ Eigen::MatrixXd truncated_pseudo_inverse(const Eigen::MatrixXd& H, double rel_th
  * not n. */
 void square_root_form(MarginalizationResult& m, double rel_threshold = 1e-12, double scale = 0);
 
-/** Eliminates `marg` from (H, b); `keep` and `marg` are disjoint index lists into H (any index not
- * listed is ignored). H_mm through truncated_pseudo_inverse, the square root by square_root_form.
- * Throws std::invalid_argument on bad indices or sizes. */
-MarginalizationResult marginalize(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
-								  const std::vector<int>& keep, const std::vector<int>& marg,
-								  double rel_threshold = 1e-12);
-
-/** marginalize() for keep = the first `num_keep` coordinates of (H, b) and marg = the rest, with the
- * square root from a blocked Cholesky (Eigen::LLT; J = Lᵀ upper triangular in the given order,
- * e = −L⁻¹ b*) when H* is clearly positive definite (every pivot L_ii² above threshold times the
- * larger of its largest pivot, `scale` and the largest diagonal of H's kept block): the same prior as
- * marginalize(), faster on the dense priors of a SLAM window. Otherwise (LLT fails or a pivot is tiny:
- * a rank-deficient H*, e.g. a free gauge or the anchor poses of inverse-depth landmarks, see
- * doc/window.md) the square root is square_root_form's truncated pivoted Cholesky of the same H* (the
- * Schur complement is not redone). Throws std::invalid_argument unless H is n×n, b n and
- * 0 ≤ num_keep ≤ n. */
-MarginalizationResult marginalize_leading(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,
-										  double threshold, double scale = 0);
-
 /** Normal equations split by two disjoint index sets: p (to be eliminated) and a (kept). */
 struct PartitionedNormalEquations
 {
@@ -83,26 +66,72 @@ struct PartitionedNormalEquations
 PartitionedNormalEquations partition_normal_equations(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
 													  const std::vector<int>& p, const std::vector<int>& a);
 
+/** The blocks of (H, b) with a = the first `num_keep` coordinates and p = the rest. Throws
+ * std::invalid_argument unless H is n×n, b n and 0 ≤ num_keep ≤ n. */
+PartitionedNormalEquations partition_leading(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep);
+
 /** The blocks of H = JᵀJ and b = −Jᵀe for the columns p and a of the square-root form (J, e), formed
  * from the gathered columns (symmetric rank updates for Hpp and Haa): cheaper than forming all of JᵀJ
  * when only these blocks are needed. Throws std::invalid_argument when e and J disagree. */
 PartitionedNormalEquations partition_square_root(const Eigen::MatrixXd& J, const Eigen::VectorXd& e,
 												 const std::vector<int>& p, const std::vector<int>& a);
 
-/** Eliminating p from partitioned normal equations, kept as the conditional δp = k − K δa (the
- * minimiser over δp for a given δa) and the marginal over a. */
-struct ConditionalElimination
+/** The one policy for applying the inverse of a symmetric positive semi-definite block A: a Cholesky
+ * solve when A is clearly positive definite (every pivot L_ii² above rel_threshold times the largest;
+ * a landmark observed with range and bearing always is), else truncated_pseudo_inverse (a rank-deficient
+ * block, e.g. an unobservable direction of the dropped variables, is cut instead of blowing up). */
+class SymmetricInverse
 {
-	Eigen::MatrixXd K;  ///< Hpp⁻¹ Hpa
-	Eigen::VectorXd k;  ///< Hpp⁻¹ bp
-	/** Haa − Hpaᵀ K and ba − Hpaᵀ k in the square-root form of marginalize_leading (num_keep = all);
-	 * left empty (rank 0) when a is empty. */
+   public:
+	SymmetricInverse(const Eigen::MatrixXd& A, double rel_threshold);
+	/** A⁻¹ B. */
+	Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
+	/** A⁻¹ (symmetric to rounding). */
+	Eigen::MatrixXd inverse() const;
+
+   private:
+	Eigen::LLT<Eigen::MatrixXd> llt_;
+	bool cholesky_ = false;
+	Eigen::MatrixXd pseudo_inverse_;
+};
+
+/** A Gaussian conditional of the eliminated coordinates p given the kept ones a, in the coordinates
+ * of the normal equations it came from: δp = k − K δa + η, η ~ N(0, covariance). */
+struct GaussianConditional
+{
+	Eigen::MatrixXd K;           ///< Hpp⁻¹ Hpa
+	Eigen::VectorXd k;           ///< Hpp⁻¹ bp
+	Eigen::MatrixXd covariance;  ///< Hpp⁻¹ (only when asked for)
+};
+
+/** What eliminating p leaves: the conditional of p given a and the marginal over a. */
+struct GaussianElimination
+{
+	GaussianConditional conditional;
+	/** Haa − Hpaᵀ K and ba − Hpaᵀ k, symmetrised, in square-root form: J = Lᵀ from a blocked Cholesky
+	 * (Eigen::LLT; upper triangular in the given order, e = −L⁻¹ b*) when H* is clearly positive
+	 * definite (every pivot above threshold times the larger of its largest pivot, `scale` and the
+	 * largest diagonal of Haa), else square_root_form's truncated pivoted Cholesky of the same H* (a
+	 * rank-deficient H*, e.g. a free gauge or the anchor poses of inverse-depth landmarks, see
+	 * doc/window.md). Empty (rank 0) when a is empty. */
 	MarginalizationResult marginal;
 };
 
-/** Eliminates p (Hpp non-empty) from `s`. Hpp⁻¹ is applied by a Cholesky solve when Hpp is clearly
- * positive definite (every pivot above threshold·max; a landmark observed with range and bearing
- * always is), else through truncated_pseudo_inverse (a rank-deficient block is cut, not inverted).
- * The marginal's rank cut is relative to Haa before the elimination. */
-ConditionalElimination eliminate_conditional(PartitionedNormalEquations s, double threshold);
+/** The one Gaussian elimination (GTSAM's eliminate returning {conditional, marginal}): eliminates p
+ * from `s`, Hpp⁻¹ applied once through SymmetricInverse; the conditional's covariance Hpp⁻¹ is formed
+ * only `with_covariance`. Used by the marginal prior, the linear tail and the prior-only variables. */
+GaussianElimination eliminate(PartitionedNormalEquations s, double threshold, bool with_covariance = false,
+							  double scale = 0);
+
+/** eliminate(partition_normal_equations(H, b, marg, keep)).marginal: `keep` and `marg` are disjoint
+ * index lists into H (any index not listed is ignored). Throws std::invalid_argument on bad indices or
+ * sizes. */
+MarginalizationResult marginalize(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
+								  const std::vector<int>& keep, const std::vector<int>& marg,
+								  double rel_threshold = 1e-12);
+
+/** eliminate(partition_leading(H, b, num_keep), threshold, false, scale).marginal: keep = the first
+ * `num_keep` coordinates, marg = the rest. */
+MarginalizationResult marginalize_leading(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, int num_keep,
+										  double threshold, double scale = 0);
 }  // namespace swba

@@ -1,24 +1,26 @@
 /** \file fixed_lag_smoother.h
  * Sensor-free fixed-lag smoothing over a factor graph (GTSAM's FixedLagSmoother / BatchFixedLagSmoother
- * are the model of the split): a Problem (factors + values), the time-ordered states of the window, a
- * marginal prior standing for everything marginalised, and first-estimate Jacobians that keep the
- * prior and the factors linearised at one point per state. What a state or a landmark is, which
- * variables leave with the oldest state and how measurements become factors is the caller's business
- * (e.g. swba/estimators/sliding_window.h for range-bearing SLAM).
+ * are the model of the split): a Problem (factors + values), the time-ordered states, a marginal prior
+ * standing for everything marginalised, first-estimate Jacobians that keep the prior and the factors
+ * linearised at one point per state, and a linear tail of states no longer re-linearised. What a state
+ * is, which variables leave with the oldest state and how measurements become factors is the caller's
+ * business, told through a SmootherClient (e.g. swba/estimators/sliding_window.h,
+ * inertial_window.h, or tests/smoother/test_constant_velocity_chain.cpp for a minimal one).
  *
- * Three ways to run the same machinery, through this API only:
- *   - fixed lag: after adding each state and its factors, update() (one LM solve), then, while
- *     over_lag(), marginalize_oldest();
- *   - full history (lag 0): update() after every state, nothing marginalised (the causal optimum);
- *   - batch (lag 0): add everything, then one solve() at the end.
+ * One step: add the new state's variables (problem()), add_state(), add_factor() for its factors, then
+ * update(client): one LM solve, the client's hooks, and, when the re-linearised states exceed
+ * options().relinearized, the oldest one marginalised (with the variables the client says leave with
+ * it) into the prior and its conditional kept in the linear tail; a state leaves the smoother for good
+ * once more than options().window states are held, and the client receives its final estimate.
+ * window = 0: nothing is marginalised (the full history, or a batch: add everything and solve
+ * problem() once).
  *
  * \code
- *   swba::smoother::FixedLagSmoother sm(options);           // options.lag = W
+ *   swba::smoother::FixedLagSmoother sm(options);           // options.window = W
  *   VariableId x = sm.problem().add_pose(guess);
  *   sm.add_state(t, x);
  *   sm.add_factor(odometry, {previous, x});
- *   sm.update(is_landmark);
- *   if (sm.over_lag()) sm.marginalize_oldest({});
+ *   sm.update(client);
  * \endcode */
 #pragma once
 
@@ -31,6 +33,7 @@
 #include <deque>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <set>
 #include <vector>
 
@@ -43,44 +46,47 @@ class LinearTail;
 struct TailConditional;
 }
 
+/** How a variable is handled while the marginal prior is the only factor touching it (e.g. a map point
+ * no state of the window observes any more). Each is exact (the same Gaussian); they differ in cost. */
+enum class PriorOnly
+{
+	Keep,       ///< solved with the window like any variable
+	Eliminate,  ///< eliminated from the prior for each solve and set to its conditional mean afterwards
+	/** kept out of the prior as its conditional given the prior's other variables, updated at each
+	 * marginalisation (a step costs O(their dimension²) instead of its cube, see prior_only_store.h);
+	 * constant in the problem, at its conditional mean after each update(), until it gains a factor or
+	 * release_prior_only() */
+	Store,
+};
+
 struct FixedLagSmootherOptions
 {
-	/** States kept in the window (≥ 2) and re-linearised at every update(); 0 = unbounded (nothing is
-	 * marginalised). Default 0. */
-	int lag = 0;
-	/** States kept after they leave the window, frozen at their linearisation: each as the Gaussian
-	 * conditional of the variables that left with it given the ones they were connected to, smoothed
-	 * by back-substitution after every update() (linear_states()). The smoothing lag is then
-	 * lag + linear_lag at the cost of a window of `lag` (doc/window.md, "Re-linearised poses").
-	 * 0 = none: a state leaves the smoother when it leaves the window. Default 0. */
-	int linear_lag = 0;
+	/** States held in total (≥ 2): a state leaves the smoother, its estimate final, when more are held.
+	 * 0 = unbounded (nothing is marginalised). Default 0. */
+	int window = 0;
+	/** Of these, the newest states re-linearised at every update() (2 ≤ relinearized ≤ window); the
+	 * older window − relinearized form the linear tail: each kept, frozen at its linearisation, as the
+	 * Gaussian conditional of the variables that left with it given the ones they were connected to,
+	 * smoothed by back-substitution after every update() (linear_states(); doc/window.md,
+	 * "Re-linearised poses"). 0 = window (no tail). Default 0. */
+	int relinearized = 0;
 	/** Evaluate every factor touching a variable in the prior at that variable's first estimate
 	 * (factors are wrapped in FirstEstimateFactor). Default true. */
 	bool first_estimate_jacobians = true;
-	/** Relative pivot threshold of the marginal prior (see swba::marginalize). Default 1e-12. */
+	/** Relative pivot threshold of the eliminations (see swba::eliminate). Default 1e-12. */
 	double marginalization_threshold = 1e-12;
-	/** In update(), hold the variables only the prior touches out of the LM solve and set them to their
-	 * conditional optimum afterwards (same optimum, a smaller dense system). Default true. */
-	bool eliminate_prior_only = true;
-	/** With eliminate_prior_only: keep the prior-only variables out of the prior between solves, as
-	 * their conditional given the prior's other variables, updated at each marginalisation, instead of
-	 * eliminating them from the whole prior at every update() (the same Gaussian; a step costs
-	 * O(prior-only dimension²) instead of its cube, see prior_only_store.h). While stored they are
-	 * constant variables of the problem with no factor, at their conditional mean after each update():
-	 * a covariance of them needs release_prior_only() first. Default false. */
-	bool store_prior_only = false;
 	/** LM options of update(). */
 	SolverOptions solver;
 };
 
-/** A state of the window: a variable and its time. */
+/** A state: a variable and its time. */
 struct TimedState
 {
 	double time = 0;
 	VariableId var = -1;
 };
 
-/** A state that left the window and is smoothed as a linear conditional, with its current estimate. */
+/** A state of the linear tail, with its current estimate. */
 struct LinearState
 {
 	double time = 0;
@@ -88,22 +94,57 @@ struct LinearState
 	std::vector<double> value;  ///< ambient value of `var` after the last back-substitution
 };
 
-/** What update() did. */
-struct UpdateSummary
-{
-	Summary solver;
-	int prior_only_eliminated = 0;  ///< variables held out of the solve (eliminate_prior_only)
-	/** The covariances update() was asked for, at its solution (ok with no blocks when none were). */
-	CovarianceResult covariance;
-};
-
-/** What marginalize_oldest() did. */
+/** What a marginalisation did. */
 struct MarginalizationSummary
 {
 	std::set<FactorId> removed;  ///< the factors replaced by the new prior
 	/** Of these, factors that could not be evaluated at the current values (their residual is undefined
-	 * there, e.g. a landmark behind its anchor): left out of the new prior, their information is lost. */
+	 * there, e.g. a point behind the camera): left out of the new prior, their information is lost. */
 	int unevaluable_factors = 0;
+};
+
+/** What update() did. */
+struct UpdateSummary
+{
+	Summary solver;
+	int prior_only_eliminated = 0;  ///< variables held out of the solve (PriorOnly::Eliminate or Store)
+	/** The covariances update() was asked for, at its solution (ok with no blocks when none were). */
+	CovarianceResult covariance;
+	/** The marginalisation of the oldest state, if one was due. */
+	std::optional<MarginalizationSummary> marginalization;
+	double marginalization_seconds = 0;  ///< of the marginalisation and the states leaving, hooks included
+};
+
+/** The estimator's side of update(): the decisions the smoother cannot take without knowing what the
+ * variables are. Called in this order within one update(): prior_only() (per prior variable), hold(),
+ * solved(), then, if the oldest state leaves the re-linearised states, leaving(), left() (no tail),
+ * marginalized(), and left() for each state leaving the tail. */
+class SmootherClient
+{
+   public:
+	virtual ~SmootherClient() = default;
+	/** How `v` is handled while only the prior touches it. Default Keep. */
+	virtual PriorOnly prior_only(VariableId v) const;
+	/** Right after the solve (values at the solution, the prior-only variables at their conditional
+	 * mean, the tail smoothed): may move the values, e.g. hold a free gauge; returns true if it did (the
+	 * smoother then brings the stored prior-only variables and the tail along). Default false. */
+	virtual bool hold(const UpdateSummary& u);
+	/** After hold(): the final values of this solve (online output, covariances, re-association). */
+	virtual void solved(const UpdateSummary& u);
+	/** The oldest re-linearised state is about to be marginalised: returns the variables that leave
+	 * with it. The client may first re-parameterise variables that depend on it (change_prior_variable). */
+	virtual std::set<VariableId> leaving(const TimedState& oldest);
+	/** After the oldest state's marginalisation. */
+	virtual void marginalized(const TimedState& oldest, const MarginalizationSummary& m);
+	/** A state leaves the smoother for good (more than `window` states held): its final estimate. */
+	virtual void left(const TimedState& state, const std::vector<double>& value);
+};
+
+/** The prior's points a change of variables is built around (change_prior_variable()). */
+struct PriorPoints
+{
+	std::vector<double> old_lin;                  ///< the old variable's linearisation point in the prior
+	std::vector<std::vector<double>> others_lin;  ///< of each other variable, in the order asked for
 };
 
 class FixedLagSmoother
@@ -116,84 +157,47 @@ class FixedLagSmoother
 	FixedLagSmoother& operator=(FixedLagSmoother&&) noexcept;
 
 	const FixedLagSmootherOptions& options() const { return opt_; }
-	/** The factors and values. Add variables directly; add factors through add_factor(). */
+	/** The factors and values. Add and remove variables directly (a removed variable's first estimate
+	 * is forgotten at the next update()); add factors through add_factor(). */
 	Problem& problem() { return problem_; }
 	const Problem& problem() const { return problem_; }
-
 	/** Adds a factor, wrapped in a FirstEstimateFactor when first-estimate Jacobians are on, with an
 	 * optional robust loss (a robustified factor enters the marginal prior with its IRLS weight at the
 	 * current values, as the solver's Triggs correction gives it). */
 	FactorId add_factor(std::shared_ptr<const Factor> factor, std::vector<VariableId> variables,
 						std::shared_ptr<const LossFunction> loss = nullptr);
-	/** Appends `var` at `time` as the newest state of the window. */
+	/** Appends `var` at `time` as the newest state. */
 	void add_state(double time, VariableId var);
-	/** The window's states, oldest first. */
+	/** The re-linearised states, oldest first. */
 	const std::deque<TimedState>& states() const { return states_; }
-	/** True when lag > 0 and the window holds more states than the lag: marginalize_oldest() is due. */
-	bool over_lag() const;
-	/** The states that left the window and are still smoothed (linear_lag > 0), oldest first, at their
-	 * estimates after the last update() (or smooth_linear_states()). */
+	/** The states of the linear tail, oldest first, at their estimates after the last update(). */
 	std::vector<LinearState> linear_states() const;
-	/** The number of linear_states() (without copying them). */
-	std::size_t num_linear_states() const;
-	/** The current estimate of a variable that left the problem with a state still in linear_states()
-	 * (nullptr if none). */
-	const double* linear_value(VariableId v) const;
-	/** True when more states than linear_lag are smoothed: pop_oldest_linear() is due. */
-	bool linear_over_lag() const;
-	/** Removes the oldest smoothed state and returns it with its estimate (throws std::logic_error if
-	 * there is none). */
-	LinearState pop_oldest_linear();
-	/** Back-substitutes the smoothed states at the problem's current values (update() does it after its
-	 * solve; call it again after moving the values, e.g. a gauge hold). */
-	void smooth_linear_states();
 
-	/** Freezes v's first estimate at its current value (FEJ on, v not constant and not yet frozen). */
-	void freeze(VariableId v);
+	/** The step: one LM solve of the problem with options().solver (the prior-only variables handled
+	 * as client.prior_only() says; the covariances of `covariance` recovered from the solve's last
+	 * linearisation, with PriorOnly::Eliminate variables eliminated: the others' exact marginal, zero
+	 * for them), then the client's hooks and the marginalisation of what leaves (see SmootherClient).
+	 * The marginalisation linearises the factors touching the leaving variables (the prior from its
+	 * known information) at the first estimates; the marginal over the variables they connect to
+	 * replaces them as the new prior, stored around the first estimates of its variables. */
+	UpdateSummary update(SmootherClient& client, const CovarianceRequest& covariance = {});
+
+	/** The marginal prior over its variables (without those PriorOnly::Store holds: see in_prior()). */
+	const MarginalPrior& prior() const { return prior_; }
+	/** v is a variable of the prior: in prior(), or held by the prior-only store. */
+	bool in_prior(VariableId v) const;
 	/** v's first estimate, or its current value when it has none (FEJ off or not yet frozen). */
 	const double* linearization_point(VariableId v) const;
-	/** Removes variable v (and its factors) from the problem, and its first estimate. */
-	void remove_variable(VariableId v);
-
-	/** The marginal prior over its active variables (with store_prior_only, the prior-only variables
-	 * are not among them: see in_prior()). */
-	const MarginalPrior& prior() const { return prior_; }
-	/** v is a variable of the prior: active, or stored prior-only. */
-	bool in_prior(VariableId v) const;
-	/** v is a stored prior-only variable (constant in the problem, at its conditional mean). */
-	bool is_stored_prior_only(VariableId v) const;
-	/** Turns store_prior_only on or off (off: the stored variables are released first). */
-	void set_store_prior_only(bool on);
-	/** Brings the stored prior-only variable v back among the prior's active variables (no-op if it is
-	 * not stored), e.g. before a change of variables of it. */
-	void activate(VariableId v);
-	/** Brings every stored prior-only variable back (before a covariance of them is asked for). */
+	/** A change of variables in the prior (see VariableChange): if `old_var` is in the prior (else
+	 * returns false and does nothing), brings it and `others` into prior() (an absent one with zero
+	 * columns, its first estimate frozen), calls make() with their points there, applies the change
+	 * to the prior, the linear tail and the prior-only store, and records the new variable's first
+	 * estimate (FEJ on). The caller then replaces old_var in the problem. */
+	bool change_prior_variable(VariableId old_var, const std::vector<VariableId>& others,
+							   const std::function<VariableChange(const PriorPoints&)>& make);
+	/** Brings every variable the prior-only store holds back into prior() (before a covariance of them
+	 * is asked for); the next update() stores again those still only the prior touches. */
 	void release_prior_only();
-	/** Sets the stored prior-only variables to their conditional mean at the current values (after
-	 * the caller moved the active variables, e.g. a gauge hold). update() does it after its solve. */
-	void update_prior_only_values();
-	/** Freezes `v` and brings it into the prior (zero columns) if absent: a change of variables is
-	 * about to make the prior depend on it. Returns its index in prior().variables(). */
-	int include_in_prior(VariableId v);
-	/** Applies `change` to the prior (MarginalPrior::change_variable), records the new variable's first
-	 * estimate (FEJ on) and re-installs the prior's factor. */
-	void change_prior_variable(const VariableChange& change);
-
-	/** One LM solve of the window with options().solver; with eliminate_prior_only, the variables that
-	 * satisfy `eliminable` and have no factor but the prior are eliminated from it exactly. The
-	 * covariances of `covariance` are recovered from the solve's last linearisation (the prior-only
-	 * variables eliminated: their elimination leaves the exact marginal of the others; they themselves
-	 * are constant in that solve and get zero). */
-	UpdateSummary update(const std::function<bool(VariableId)>& eliminable, const CovarianceRequest& covariance = {});
-	/** One LM solve of the whole problem with `options` (no elimination): the batch run. */
-	Summary solve(const SolverOptions& options);
-
-	/** Marginalises the oldest state together with `also` (variables leaving with it): the factors
-	 * touching them are linearised (the prior from its known information) at the first estimates,
-	 * the marginal over the variables they connect to replaces them as the new prior, and the
-	 * variables are removed. The new prior is stored around the first estimates of its variables. With
-	 * linear_lag > 0 the conditional of the removed variables given the kept ones joins linear_states(). */
-	MarginalizationSummary marginalize_oldest(const std::set<VariableId>& also);
 
    private:
 	FixedLagSmootherOptions opt_;
@@ -204,14 +208,28 @@ class FixedLagSmoother
 	std::unique_ptr<detail::PriorOnlyStore> store_;
 	std::unique_ptr<detail::LinearTail> tail_;
 
-	/** store_prior_only: releases the stored variables that gained a factor and stores the active ones
-	 * the prior alone touches. */
-	int sync_store(const std::function<bool(VariableId)>& eliminable);
-	/** linear_lag > 0: the conditional `c` of the non-constant of `marg` given the kept variables joins
-	 * the tail (with the values of the constant ones). */
+	/** The solve with the prior-only variables handled as `client` says. */
+	UpdateSummary solve(const SmootherClient& client, const CovarianceRequest& covariance);
+	/** The stored variables that gained a factor or are no longer PriorOnly::Store go back; the active
+	 * ones the prior alone touches and the client stores join the store. Returns the store's size. */
+	int sync_store(const SmootherClient& client);
+	/** The oldest state leaves the re-linearised states, then the tail's oldest while over the window. */
+	void marginalize(SmootherClient& client, UpdateSummary& out);
+	/** Marginalises the oldest state with `also` (see update()). */
+	MarginalizationSummary marginalize_oldest(const std::set<VariableId>& also);
+	/** The conditional `c` of the non-constant of `marg` given the kept variables joins the tail (with
+	 * the values of the constant ones). */
 	void push_linear_state(detail::TailConditional c, const std::set<VariableId>& marg);
-	/** store_prior_only: the store follows the elimination of c's variables (the conditional of the
-	 * marginalised variables given the kept ones) in marginalize_oldest(). */
+	/** The store follows the elimination of c's variables (the conditional of the marginalised
+	 * variables given the kept ones) in marginalize_oldest(). */
 	void eliminate_from_store(const detail::TailConditional& c);
+	/** Freezes v's first estimate at its current value (FEJ on, v not constant and not yet frozen). */
+	void freeze(VariableId v);
+	/** Removes variable v (and its factors) from the problem, and its first estimate. */
+	void remove_variable(VariableId v);
+	/** Freezes `v` and brings it into the prior (zero columns) if absent; its index in prior(). */
+	int include_in_prior(VariableId v);
+	/** The tail's size limit: window − relinearized. */
+	int tail_length() const;
 };
 }  // namespace swba::smoother

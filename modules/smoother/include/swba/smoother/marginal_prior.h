@@ -10,30 +10,38 @@
 #include <swba/nonlinear/problem.h>
 
 #include <Eigen/Core>
+#include <functional>
 #include <utility>
 #include <vector>
 
 namespace swba::smoother
 {
-/** A first-order change of variables in the prior: the prior variable `old_var` (a Euclidean 3-vector)
- * is replaced by `new_var`, the two related around the linearisation point by x_old = φ(h(x_new, y_1, …))
- * with the SE(3) variables y_i. The Jacobians are given as the model produces them: D = ∂φ/∂h and the
- * Jacobians of h with respect to x_new and each y_i; the prior's columns become
- * J_old ← (J_old D) H_new and J_{y_i} += (J_old D) H_i. */
+/** A first-order change of variables in the prior: the prior variable `old_var` is replaced by
+ * `new_var`, the two related around the linearisation points by
+ *     d_old ≈ D (H_new d_new + Σ H_i d_yi),
+ * with d = x ⊟ x_lin and the variables y_i already in the prior. Block sizes are the variables'
+ * tangent sizes (D: old × m, H_new: m × new, H_i: m × y_i, for any inner size m): the model gives its
+ * Jacobians as it produces them, e.g. D = ∂φ/∂h and ∂h/∂x for x_old = φ(h(x_new, y_1, …)).
+ * change_columns() applies it to a block of columns; every container of columns over the prior's
+ * variables (the prior's J, the linear tail's K, the prior-only store's K) goes through it. */
 struct VariableChange
 {
-	using PointJacobian = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
-	using PoseJacobian = Eigen::Matrix<double, 3, 6, Eigen::RowMajor>;
-
 	VariableId old_var = -1;
 	VariableId new_var = -1;
 	std::vector<double> new_x_lin;        ///< x_new at the prior's linearisation point
 	std::vector<double> first_estimate;   ///< x_new where the Jacobians were evaluated (its first estimate)
-	Eigen::Matrix3d D;
-	PointJacobian H_new;
-	/** (y_i, ∂h/∂y_i), each y_i already in the prior; the prior's columns are updated in this order. */
-	std::vector<std::pair<VariableId, PoseJacobian>> H_poses;
+	Eigen::MatrixXd D;
+	Eigen::MatrixXd H_new;
+	/** (y_i, H_i); containers update their columns in this order. */
+	std::vector<std::pair<VariableId, Eigen::MatrixXd>> H_others;
 };
+
+/** The columns that replace M_old, a linear map's block on d_old, under `change`: M_old d_old =
+ * (M_old D H_new) d_new + Σ (M_old D H_i) d_yi. Returns {new_var, M_old D H_new} followed by each
+ * {y_i, M_old D H_i} (to be added to y_i's columns, which are zero where absent). Throws
+ * std::invalid_argument when the sizes disagree. */
+std::vector<std::pair<VariableId, Eigen::MatrixXd>> change_columns(const VariableChange& change,
+																   const Eigen::MatrixXd& M_old);
 
 class MarginalPrior
 {
@@ -53,6 +61,16 @@ class MarginalPrior
 	/** Rows of J (0: no prior). */
 	int rank() const { return static_cast<int>(J_.rows()); }
 
+	/** The prior's variables split in two by a predicate: their positions in variables() and their
+	 * scalar columns in J, each part in the prior's order. */
+	struct Partition
+	{
+		std::vector<std::size_t> first, second;
+		std::vector<int> first_columns, second_columns;
+	};
+	/** Splits the variables by `in_first` (tangent sizes from `problem`). Throws std::invalid_argument
+	 * when their sizes and J's columns disagree. */
+	Partition partition(const Problem& problem, const std::function<bool(VariableId)>& in_first) const;
 	/** Position of `v` in variables(), −1 if it is not in the prior. O(variables). */
 	int index_of(VariableId v) const;
 	/** First column of variable `index` in J (tangent sizes from the problem). */
