@@ -22,6 +22,7 @@ namespace
 using test::input_of;
 using test::position;
 using test::rmse;
+using test::tilt_error;
 
 InertialWindowOptions window_options(const InertialDataset& d, ImuGrade grade, int w)
 {
@@ -90,18 +91,6 @@ TEST(InertialWindow, OnlineMatchesTheFilterAndSmoothingImprovesOnIt)
 		EXPECT_GT(w10.relative_factors, 0u);
 	}
 }
-
-namespace
-{
-/** Angle between the true and the estimated gravity direction in the body frame (roll and pitch error). */
-double tilt_error(const mrpt::poses::CPose3D& est, const mrpt::poses::CPose3D& truth)
-{
-	const Eigen::Vector3d z(0, 0, 1);
-	const Eigen::Vector3d a = est.getRotationMatrix().asEigen().transpose() * z,
-						  b = truth.getRotationMatrix().asEigen().transpose() * z;
-	return std::acos(std::clamp(a.dot(b), -1.0, 1.0));
-}
-}  // namespace
 
 TEST(InertialWindow, ImuAndOdometryOnlyHoldTheFourDofGaugeAndRecoverTheTilt)
 {
