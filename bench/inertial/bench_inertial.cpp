@@ -5,7 +5,7 @@
 #include <swba/problems/inertial_simulation.h>
 
 #include <algorithm>
-#include <chrono>
+#include <swba/core/timing.h>
 #include <cmath>
 #include <cstdio>
 
@@ -55,9 +55,9 @@ int main()
 		const InertialInput in = input_of(d);
 		InertialWindowOptions o;
 		o.measurements.noise = d.noise;
-		const auto t0 = std::chrono::steady_clock::now();
+		const auto t0 = SteadyClock::now();
 		const InertialTrajectory f = run_inertial_filter(in, o.measurements);
-		const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+		const double sec = seconds_since(t0);
 		const double per_reading = sec / f.imu_steps;
 		std::printf("%-8s %6.0f %-22s %12.5f %12s %12.0f %10.4f\n", "figure8", rate, "eskf (per IMU reading)",
 					1e3 * per_reading, "-", (1.0 / rate) / per_reading, rmse(f, d, rate));

@@ -204,3 +204,28 @@ TEST(Umeyama, OneOrTwoPosesOrCollinearOnesAreDegenerateAsInEvo)
 	plane << 0, 1, 0, 0, 0, 1, 0, 0, 0;
 	EXPECT_NO_THROW(umeyama_alignment(plane, plane, false));
 }
+
+TEST(YawAlignment, RecoversAKnownYawAndTranslationAndIsTheBestOneUnderNoise)
+{
+	const Eigen::Matrix3d R = Eigen::AngleAxisd(2.9, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+	const Eigen::Vector3d t(3, -4, 1.5);
+	const Eigen::Matrix3Xd src = random_points(40, 3);
+	const Sim3 a = yaw_alignment(src, (R * src).colwise() + t);
+	EXPECT_NEAR((a.R - R).norm(), 0.0, 1e-12);
+	EXPECT_NEAR((a.t - t).norm(), 0.0, 1e-12);
+	EXPECT_EQ(a.scale, 1.0);
+	// With noise, no other yaw (nor translation, which then follows from the centroids) does better.
+	const Eigen::Matrix3Xd dst = ((R * src).colwise() + t) + 0.3 * random_points(40, 4);
+	auto cost = [&](const Eigen::Matrix3d& Ry, const Eigen::Vector3d& ty) {
+		return (((Ry * src).colwise() + ty) - dst).squaredNorm();
+	};
+	const Sim3 b = yaw_alignment(src, dst);
+	for (double dyaw : {-1e-3, 1e-3})
+	{
+		const Eigen::Matrix3d Ry = Eigen::AngleAxisd(dyaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * b.R;
+		const Eigen::Vector3d ty = dst.rowwise().mean() - Ry * src.rowwise().mean();
+		EXPECT_GT(cost(Ry, ty), cost(b.R, b.t));
+	}
+	EXPECT_THROW(yaw_alignment(Eigen::Matrix3Xd::Zero(3, 3), Eigen::Matrix3Xd::Zero(3, 3)), std::invalid_argument);
+	EXPECT_THROW(yaw_alignment(src, src.leftCols(3)), std::invalid_argument);
+}

@@ -50,6 +50,24 @@ ImuPreintegration integrate(const std::vector<ImuSample>& s, const Vector6d& bia
 	for (const auto& x : s) pim.add_sample(x);
 	return pim;
 }
+
+/** Central differences of the deltas [Δp, Δφ, Δv] w.r.t. the bias, by re-integration at b ± h. */
+Eigen::Matrix<double, 9, 6> numeric_bias_jacobian(const std::vector<ImuSample>& s, const Vector6d& b)
+{
+	Eigen::Matrix<double, 9, 6> N;
+	const double h = 1e-5;
+	for (int c = 0; c < 6; c++)
+	{
+		Vector6d bp = b, bm = b;
+		bp[c] += h;
+		bm[c] -= h;
+		const ImuPreintegration P = integrate(s, bp), M = integrate(s, bm);
+		N.block<3, 1>(0, c) = (P.delta_p() - M.delta_p()) / (2 * h);
+		N.block<3, 1>(3, c) = so3_log(M.delta_R().transpose() * P.delta_R()) / (2 * h);
+		N.block<3, 1>(6, c) = (P.delta_v() - M.delta_v()) / (2 * h);
+	}
+	return N;
+}
 }  // namespace
 
 TEST(ImuPreintegration, ConstantRateMatchesClosedFormToSecondOrder)
@@ -116,22 +134,28 @@ TEST(ImuPreintegration, BiasJacobiansMatchReintegration)
 		Vector6d b;
 		b << rng.vec(-0.2, 0.2), rng.vec(-0.02, 0.02);
 		const ImuPreintegration pim = integrate(s, b);
-		Eigen::Matrix<double, 9, 6> N;
-		const double h = 1e-5;
-		for (int c = 0; c < 6; c++)
-		{
-			Vector6d bp = b, bm = b;
-			bp[c] += h;
-			bm[c] -= h;
-			const ImuPreintegration P = integrate(s, bp), M = integrate(s, bm);
-			N.block<3, 1>(0, c) = (P.delta_p() - M.delta_p()) / (2 * h);
-			N.block<3, 1>(3, c) = so3_log(M.delta_R().transpose() * P.delta_R()) / (2 * h);
-			N.block<3, 1>(6, c) = (P.delta_v() - M.delta_v()) / (2 * h);
-		}
+		const Eigen::Matrix<double, 9, 6> N = numeric_bias_jacobian(s, b);
 		const double scale = std::max(1.0, N.cwiseAbs().maxCoeff());
 		const double err = (N - pim.bias_jacobian()).cwiseAbs().maxCoeff() / scale;
 		EXPECT_LT(err, 1e-6) << "seed " << seed << "\nanalytic\n" << pim.bias_jacobian() << "\nnumeric\n" << N;
 		EXPECT_LT((pim.bias_jacobian().block<3, 3>(3, 0).norm()), 1e-15);  // ΔR does not depend on b_a
+	}
+}
+
+TEST(ImuPreintegration, WhiteNoiseEntersAStepAsTheBiasDoes)
+{
+	// A reading's white noise shifts the step as a bias error does (ω = ω̃ − b_g − n_g, a = ã − b_a − n_a):
+	// the noise columns of G are the one-step derivatives of the deltas w.r.t. the bias, second-order terms
+	// (the gyroscope noise into Δp and Δv through the second reading's rotation, M_g) included.
+	for (unsigned seed : {4u, 5u})
+	{
+		Rng rng(seed);
+		const auto s = random_readings(rng, 2, 100.0);
+		Vector6d b;
+		b << rng.vec(-0.2, 0.2), rng.vec(-0.02, 0.02);
+		const MidpointLinearization L = midpoint_linearization(Eigen::Matrix3d::Identity(), s[0], s[1], b);
+		const Eigen::Matrix<double, 9, 6> N = numeric_bias_jacobian(s, b);
+		EXPECT_LT((L.G.topLeftCorner<9, 6>() - N).cwiseAbs().maxCoeff(), 1e-9) << "G\n" << L.G.topLeftCorner<9, 6>() << "\nnumeric\n" << N;
 	}
 }
 
@@ -157,6 +181,15 @@ TEST(ImuPreintegration, FirstOrderBiasUpdateApproximatesReintegration)
 	EXPECT_LT((again.delta_p() - re.delta_p()).norm(), 1e-14);
 	EXPECT_TRUE(pim.bias_far(b0 + db, 0.01, 0.001));
 	EXPECT_FALSE(pim.bias_far(b0 + 0.1 * db, 0.01, 0.001));
+	// Far is either sensor's bias on any one axis.
+	for (int c = 0; c < 6; c++)
+	{
+		Vector6d moved = b0;
+		moved[c] += c < 3 ? 0.011 : 0.0011;
+		EXPECT_TRUE(pim.bias_far(moved, 0.01, 0.001)) << "axis " << c;
+		moved[c] = b0[c] + (c < 3 ? 0.009 : 0.0009);
+		EXPECT_FALSE(pim.bias_far(moved, 0.01, 0.001)) << "axis " << c;
+	}
 }
 
 namespace

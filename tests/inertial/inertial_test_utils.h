@@ -8,6 +8,7 @@
 
 #include <Eigen/Cholesky>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -29,6 +30,15 @@ inline estimators::InertialInput input_of(const problems::InertialDataset& d)
 inline const problems::InertialTruth& truth_at(const problems::InertialDataset& d, double t, double rate)
 {
 	return d.truth.at(static_cast<std::size_t>(std::lround(t * rate)));
+}
+
+/** Angle between the true and the estimated gravity direction in the body frame (roll and pitch error). */
+inline double tilt_error(const mrpt::poses::CPose3D& est, const mrpt::poses::CPose3D& truth)
+{
+	const Eigen::Vector3d z(0, 0, 1);
+	const Eigen::Vector3d a = est.getRotationMatrix().asEigen().transpose() * z,
+						  b = truth.getRotationMatrix().asEigen().transpose() * z;
+	return std::acos(std::clamp(a.dot(b), -1.0, 1.0));
 }
 
 /** Translation RMSE of the trajectory against the truth (report times are IMU times). */

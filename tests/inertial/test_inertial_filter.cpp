@@ -109,10 +109,11 @@ TEST(InertialFilter, PositionNeesWithPosePriorsInsideTheBand)
 	EXPECT_GE(nees_fraction_inside(20, false, &mean), 0.9);
 }
 
-// Known failure, disabled: with the lidar-like odometry the filter is overconfident in position (mean
-// NEES 3.97 for 3 dof, 71 % of steps inside; its rotation NEES is consistent). Run with
-// --gtest_also_run_disabled_tests.
-TEST(InertialFilter, DISABLED_PositionNeesWithOdometryInsideTheBand)
+// With the lidar-like odometry fused: mean 3.19, 99 % of steps inside at this commit. (Measured 3.97 and 71 %
+// when the test was written and disabled; not reproduced since. The simulated odometry noise is white per
+// increment, as BetweenPoseFactor assumes: each increment is perturbed independently, the drift of the
+// chained poses is their sum.)
+TEST(InertialFilter, PositionNeesWithOdometryInsideTheBand)
 {
 	double mean = 0;
 	EXPECT_GE(nees_fraction_inside(20, true, &mean), 0.9);

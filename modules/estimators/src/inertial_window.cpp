@@ -1,5 +1,7 @@
 #include <swba/estimators/inertial_window.h>
 
+#include "inertial_gauge.h"
+
 #include <swba/core/manifold.h>
 #include <swba/factors/between_pose.h>
 #include <swba/factors/imu_factor.h>
@@ -7,7 +9,7 @@
 #include <swba/smoother/fixed_lag_smoother.h>
 
 #include <Eigen/LU>
-#include <chrono>
+#include <swba/core/timing.h>
 #include <cmath>
 #include <deque>
 #include <optional>
@@ -134,7 +136,13 @@ class InertialGraph : smoother::SmootherClient
 	 * and the oldest keyframe recorded in `lagged` and marginalised when the window is full. */
 	void update(InertialTrajectory& online, InertialTrajectory& lagged);
 	void record_all(InertialTrajectory& out) const;
-	Summary solve(const SolverOptions& s) { return swba::solve(sm_.problem(), s); }
+	Summary solve(const SolverOptions& s)
+	{
+		const detail::InertialGaugeSnapshot before = gauge_snapshot();
+		const Summary r = swba::solve(sm_.problem(), s);
+		hold_gauge(before);
+		return r;
+	}
 	/** Re-integrates the IMU factors whose bias moved (after a solve). */
 	std::size_t reintegrate_moved()
 	{
@@ -166,9 +174,17 @@ class InertialGraph : smoother::SmootherClient
 	NavState nav(const Kf& k) const;
 	Vector6d bias(const Kf& k) const { return Eigen::Map<const Vector6d>(sm_.problem().value(k.b)); }
 	void add_pose_prior(const Kf& k, const mrpt::poses::CPose3D& Z, const Matrix6d& covariance);
+	/** The smoother's add_factor, through TiltFactor for the factors on a fixed gauge's first pose. */
+	FactorId add_factor(std::shared_ptr<const Factor> f, const std::vector<VariableId>& vars);
+	/** The first keyframe's pose: on TiltManifold under the fixed four-DoF gauge. */
+	VariableId add_first_pose(const NavState& x);
+	detail::InertialGaugeSnapshot gauge_snapshot() const;
+	/** Undoes the four-DoF motion since `before` (free gauge only). */
+	void hold_gauge(const detail::InertialGaugeSnapshot& before);
 	void record(InertialTrajectory& out, const Kf& k, const Matrix6d& covariance) const;
 	void reintegrate();
 	// SmootherClient: the oldest keyframe leaves with its velocity and biases.
+	bool hold(const smoother::UpdateSummary& u) override;  ///< the free gauge's hold
 	void solved(const smoother::UpdateSummary& u) override;
 	std::set<VariableId> leaving(const smoother::TimedState&) override { return {kfs_.front().v, kfs_.front().b}; }
 	void left(const smoother::TimedState&, const std::vector<double>&) override
@@ -178,12 +194,15 @@ class InertialGraph : smoother::SmootherClient
 	void marginalized(const smoother::TimedState&, const smoother::MarginalizationSummary&) override;
 	InertialTrajectory* online_ = nullptr;
 	InertialTrajectory* lagged_ = nullptr;
+	detail::InertialGaugeSnapshot before_;  ///< the gauge directions before this update's solve
 
 	InertialWindowOptions o_;
 	const InertialInput& in_;
 	smoother::FixedLagSmoother sm_;
 	std::deque<Kf> kfs_;
 	std::size_t cursor_ = 0;
+	GaugeMode gauge_ = GaugeMode::Prior;  ///< o_.gauge without pose priors, else Prior (the priors fix the frame)
+	VariableId tilt_pose_ = -1;			  ///< the fixed gauge's first pose
 };
 
 NavState InertialGraph::nav(const Kf& k) const
@@ -200,18 +219,25 @@ void InertialGraph::add_pose_prior(const Kf& k, const mrpt::poses::CPose3D& Z, c
 {
 	auto f = std::make_shared<PosePriorFactor>(Z);
 	f->set_information(information(covariance));
-	sm_.add_factor(f, {k.T});
+	add_factor(f, {k.T});
 	prior_factors++;
 }
 
 void InertialGraph::add_first(const InertialInitialState& init, const KeyframeData& k)
 {
 	Problem& p = sm_.problem();
-	Kf kf{k.t, p.add_pose(make_pose(init.x)), p.add_variable(Eigen::VectorXd(init.x.v), euclidean_manifold(3)),
+	if (!k.prior) gauge_ = o_.gauge;
+	Kf kf{k.t, add_first_pose(init.x), p.add_variable(Eigen::VectorXd(init.x.v), euclidean_manifold(3)),
 		  p.add_variable(Eigen::VectorXd(init.bias), euclidean_manifold(6)), -1, nullptr};
 	sm_.add_state(k.t, kf.T);
 	if (k.prior)
 		add_pose_prior(kf, k.prior->pose, k.prior->covariance);
+	else if (gauge_ != GaugeMode::Prior)
+	{
+		auto f = std::make_shared<PosePriorFactor>(make_pose(init.x));  // roll and pitch only
+		f->set_sqrt_information(detail::tilt_prior_sqrt_information(init.x.R, o_.measurements.prior.odometry_tilt_sigma));
+		add_factor(f, {kf.T});
+	}
 	else
 	{
 		const Eigen::Matrix3d Rt = init.x.R.transpose();
@@ -241,16 +267,52 @@ void InertialGraph::add_next(const KeyframeData& k, const std::optional<std::pai
 		  p.add_variable(Eigen::VectorXd(bj), euclidean_manifold(6)), -1, nullptr};
 	kf.pim = pim;
 	sm_.add_state(k.t, kf.T);
-	kf.imu = sm_.add_factor(std::make_shared<ImuPreintegrationFactor>(pim), {prev.T, prev.v, prev.b, kf.T, kf.v, kf.b});
+	kf.imu = add_factor(std::make_shared<ImuPreintegrationFactor>(pim), {prev.T, prev.v, prev.b, kf.T, kf.v, kf.b});
 	if (k.prior) add_pose_prior(kf, k.prior->pose, k.prior->covariance);
 	if (k.relative)
 	{
 		auto f = std::make_shared<BetweenPoseFactor>(k.relative->D);
 		f->set_information(information(k.relative->covariance));
-		sm_.add_factor(f, {prev.T, kf.T});
+		add_factor(f, {prev.T, kf.T});
 		relative_factors++;
 	}
 	kfs_.push_back(kf);
+}
+
+FactorId InertialGraph::add_factor(std::shared_ptr<const Factor> f, const std::vector<VariableId>& vars)
+{
+	for (std::size_t i = 0; i < vars.size(); i++)
+		if (vars[i] == tilt_pose_) f = std::make_shared<detail::TiltFactor>(f, static_cast<int>(i));
+	return sm_.add_factor(std::move(f), vars);
+}
+
+VariableId InertialGraph::add_first_pose(const NavState& x)
+{
+	if (gauge_ != GaugeMode::Fixed) return sm_.problem().add_pose(make_pose(x));
+	double v[SE3Manifold::kAmbient];
+	SE3Manifold::from_pose(make_pose(x), v);
+	tilt_pose_ = sm_.problem().add_variable(v, detail::TiltManifold::instance());
+	return tilt_pose_;
+}
+
+detail::InertialGaugeSnapshot InertialGraph::gauge_snapshot() const
+{
+	// The frame is the marginal prior's: its keyframes at their first estimates, where the prior's null
+	// space is the gauge; before anything is marginalised, the first keyframe as it is.
+	detail::InertialGaugeSnapshot s;
+	if (gauge_ != GaugeMode::Free || kfs_.empty()) return s;
+	for (const Kf& k : kfs_)
+		if (sm_.in_prior(k.T)) s.add(k.T, sm_.linearization_point(k.T), k.v, sm_.linearization_point(k.v));
+	if (s.ids.empty()) s.add(kfs_.front().T, sm_.problem().value(kfs_.front().T), kfs_.front().v, sm_.problem().value(kfs_.front().v));
+	return s;
+}
+
+void InertialGraph::hold_gauge(const detail::InertialGaugeSnapshot& before)
+{
+	if (gauge_ != GaugeMode::Free) return;
+	std::vector<std::pair<VariableId, VariableId>> window;
+	for (const Kf& k : kfs_) window.push_back({k.T, k.v});
+	detail::hold_inertial_gauge(sm_.problem(), before, window);
 }
 
 void InertialGraph::record(InertialTrajectory& out, const Kf& k, const Matrix6d& covariance) const
@@ -266,10 +328,18 @@ void InertialGraph::record(InertialTrajectory& out, const Kf& k, const Matrix6d&
 void InertialGraph::update(InertialTrajectory& online, InertialTrajectory& lagged)
 {
 	CovarianceRequest request;
-	if (o_.covariances) request.groups.push_back({kfs_.back().T});
+	if (o_.covariances && gauge_ != GaugeMode::Free) request.groups.push_back({kfs_.back().T});
 	online_ = &online;
 	lagged_ = &lagged;
+	before_ = gauge_snapshot();
 	sm_.update(*this, request);
+}
+
+bool InertialGraph::hold(const smoother::UpdateSummary&)
+{
+	if (gauge_ != GaugeMode::Free) return false;
+	hold_gauge(before_);
+	return true;
 }
 
 void InertialGraph::solved(const smoother::UpdateSummary& u)
@@ -290,7 +360,7 @@ void InertialGraph::reintegrate()
 		pim->reintegrate(b);
 		sm_.problem().remove_factor(k.imu);
 		const Kf& prev = kfs_[i - 1];
-		k.imu = sm_.add_factor(std::make_shared<ImuPreintegrationFactor>(pim), {prev.T, prev.v, prev.b, k.T, k.v, k.b});
+		k.imu = add_factor(std::make_shared<ImuPreintegrationFactor>(pim), {prev.T, prev.v, prev.b, k.T, k.v, k.b});
 		k.pim = pim;
 		reintegrations++;
 	}
@@ -327,13 +397,13 @@ InertialWindowResult run_inertial_window(const InertialInput& in, const Inertial
 	InertialWindowResult r;
 	for (std::size_t i = 0; i < kd.size(); i++)
 	{
-		const auto start = std::chrono::steady_clock::now();
+		const auto start = SteadyClock::now();
 		if (i == 0)
 			g.add_first(init, kd[0]);
 		else
 			g.add_next(kd[i]);
 		g.update(r.online, r.lagged);
-		r.seconds_per_keyframe.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+		r.seconds_per_keyframe.push_back(seconds_since(start));
 	}
 	g.record_all(r.lagged);
 	r.reintegrations = g.reintegrations;

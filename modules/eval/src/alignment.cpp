@@ -2,6 +2,7 @@
 #include "swba/eval/alignment.h"
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <Eigen/SVD>
 #include <limits>
 #include <stdexcept>
@@ -56,6 +57,23 @@ Sim3 umeyama_alignment(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst,
 	s.R = cR / s.scale;
 	s.t = T.topRightCorner<3, 1>();
 	return s;
+}
+
+Sim3 yaw_alignment(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst)
+{
+	if (src.cols() != dst.cols() || src.cols() == 0)
+		throw std::invalid_argument("yaw_alignment: " + std::to_string(src.cols()) + " source points and " +
+									std::to_string(dst.cols()) + " destination points");
+	const Eigen::Vector3d ms = src.rowwise().mean(), md = dst.rowwise().mean();
+	const Eigen::Matrix3Xd s = src.colwise() - ms, d = dst.colwise() - md;
+	const double c = (s.row(0).cwiseProduct(d.row(0)) + s.row(1).cwiseProduct(d.row(1))).sum();
+	const double n = (s.row(0).cwiseProduct(d.row(1)) - s.row(1).cwiseProduct(d.row(0))).sum();
+	if (std::hypot(c, n) <= std::numeric_limits<double>::epsilon())
+		throw std::invalid_argument("yaw_alignment: the points' horizontal parts do not determine a yaw");
+	Sim3 out;
+	out.R = Eigen::AngleAxisd(std::atan2(n, c), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+	out.t = md - out.R * ms;
+	return out;
 }
 
 AlignmentResult align_trajectory(Trajectory& est, const Trajectory& ref, const AlignmentOptions& options)

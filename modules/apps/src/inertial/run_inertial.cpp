@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include <chrono>
+#include <swba/core/timing.h>
 #include <cmath>
 #include <limits>
 #include <cstdio>
@@ -55,6 +55,10 @@ InertialFigures score(RunRow& row, const estimators::InertialTrajectory& est, co
 	row.ape_full = eval::compute_statistics(eval::ape_errors(ref, e, eval::PoseRelation::FullTransformation));
 	f.rot_deg = eval::compute_statistics(eval::ape_errors(ref, e, eval::PoseRelation::RotationAngleDeg));
 	row.has_ape = true;
+	row.has_rpe = e.size() >= 2;  // as the range-bearing report: translation drift between consecutive keyframes
+	if (row.has_rpe)
+		row.rpe_trans = eval::compute_statistics(
+			eval::rpe_errors(ref, e, eval::PoseRelation::TranslationPart, eval::rpe_pairs(e.size(), 1, false)));
 	const double lo = chi2_quantile(0.025, 3), hi = chi2_quantile(0.975, 3);
 	double sum = 0, inside = 0;
 	std::size_t n = 0;
@@ -100,9 +104,9 @@ void add_row(Rows& r, const std::string& name, const std::string& label, int win
 
 double seconds_of(const std::function<void()>& f)
 {
-	const auto t0 = std::chrono::steady_clock::now();
+	const auto t0 = SteadyClock::now();
 	f();
-	return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	return seconds_since(t0);
 }
 
 void run_rows(const RunOptions& o, const estimators::InertialInput& in, const eval::Trajectory& gt, Rows& r,
@@ -152,7 +156,7 @@ std::string format_table(const Rows& r)
 {
 	std::ostringstream os;
 	os << std::left << std::setw(22) << "estimator" << std::right << std::setw(12) << "APE RMSE m" << std::setw(12)
-	   << "max m" << std::setw(14) << "rot RMSE deg" << std::setw(11) << "pos NEES" << std::setw(10) << "in 95%"
+	   << "max m" << std::setw(12) << "RPE RMSE m" << std::setw(14) << "rot RMSE deg" << std::setw(11) << "pos NEES" << std::setw(10) << "in 95%"
 	   << std::setw(12) << "ms/step" << "\n";
 	auto num = [](double v, int prec) {  // NaN: not available
 		std::ostringstream s;
@@ -167,9 +171,9 @@ std::string format_table(const Rows& r)
 		const InertialFigures& f = r.figures[i];
 		const double ape = row.has_ape ? row.ape_trans.rmse : none, mx = row.has_ape ? row.ape_trans.max : none;
 		const double rot = f.rot_deg ? f.rot_deg->rmse : none, in = f.nees_inside ? 100 * *f.nees_inside : none;
-		const double nees = f.nees_mean ? *f.nees_mean : none;
+		const double nees = f.nees_mean ? *f.nees_mean : none, rpe = row.has_rpe ? row.rpe_trans.rmse : none;
 		os << std::left << std::setw(22) << row.label << std::right << std::setw(12) << num(ape, 4) << std::setw(12)
-		   << num(mx, 4) << std::setw(14) << num(rot, 3) << std::setw(11) << num(nees, 2) << std::setw(10)
+		   << num(mx, 4) << std::setw(12) << num(rpe, 4) << std::setw(14) << num(rot, 3) << std::setw(11) << num(nees, 2) << std::setw(10)
 		   << num(in, 0) << std::setw(12) << num(row.ms_per_step, 3) << "\n";
 	}
 	return os.str();
@@ -202,6 +206,7 @@ void write_outputs(const RunOptions& o, const RunReport& rep, const Rows& r, con
 			j["ape_trans"] = stats_json(row.ape_trans);
 			j["ape_rot_deg"] = stats_json(*r.figures[i].rot_deg);
 		}
+		if (row.has_rpe) j["rpe_trans"] = stats_json(row.rpe_trans);
 		if (r.figures[i].nees_mean)
 			j["position_nees"] = {{"mean", *r.figures[i].nees_mean}, {"fraction_in_95", *r.figures[i].nees_inside}};
 		rows.push_back(j);

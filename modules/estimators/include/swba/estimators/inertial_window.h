@@ -10,11 +10,12 @@
  * its pre-integration's linearisation bias by more than the thresholds is re-integrated and replaced.
  *
  * Gauge: with pose priors the frame is fixed. Without them (IMU + relative poses) x, y, z and yaw are
- * unobservable: the first keyframe gets a prior from the odometry that holds those four tightly and leaves
- * roll and pitch to gravity (InertialPriorOptions::odometry_pose_sigma, odometry_tilt_sigma). */
+ * unobservable and roll and pitch are seen through gravity; InertialWindowOptions::gauge says how the four
+ * are held (the first keyframe's roll and pitch get the prior odometry_tilt_sigma in every mode). */
 #pragma once
 
 #include <swba/estimators/inertial_filter.h>
+#include <swba/nonlinear/gauge.h>
 #include <swba/nonlinear/solver.h>
 
 #include <cstddef>
@@ -38,6 +39,12 @@ struct InertialWindowOptions
 	 * ≈ 1e15 for a tactical gyroscope: 1e-12 of that cuts every direction held by less than 1e3 (a pose
 	 * prior of σ = 0.5 m holds 4). (Default = 1e-20) */
 	double marginalization_threshold = 1e-20;
+	/** The four-DoF gauge without pose priors (ignored with them: the priors fix the frame). Prior: the
+	 * first keyframe's pose prior from the odometry holds x, y, z, yaw with σ odometry_pose_sigma. Fixed:
+	 * they are constant (the first pose moves only in pitch and roll). Free: no information on them; LM's
+	 * damping copes and the motion each solve makes along them is undone; no covariance is reported (the
+	 * normal equations are singular). (Default = Prior) */
+	GaugeMode gauge = GaugeMode::Prior;
 	/** Recover the newest pose's marginal covariance after each update. (Default = true) */
 	bool covariances = true;
 	/** LM options of each update (Default: 10 iterations at most, initial trust region radius 1e12: see

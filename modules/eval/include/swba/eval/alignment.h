@@ -28,6 +28,13 @@ struct Sim3
  * points all equal, where no scale could be estimated either). */
 Sim3 umeyama_alignment(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst, bool with_scale);
 
+/** Least-squares rigid motion restricted to a rotation about z and a translation (the four-DoF gauge of
+ * visual-inertial and IMU + odometry estimates, gravity along z) mapping src columns onto dst columns:
+ * Umeyama's solution with the rotation confined to the xy plane, yaw = atan2(Σ (s × d)_z, Σ s_xy · d_xy)
+ * over the centred points. Throws std::invalid_argument on size mismatch, N = 0 or centred points whose
+ * xy parts do not determine the yaw (all on the z axis). */
+Sim3 yaw_alignment(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst);
+
 /** Alignment flags, as evo: align = `-a`, correct_scale = `-s`, align_origin = `--align-origin`.
  *  - align only: SE(3) Umeyama;      - align + correct_scale: Sim(3) Umeyama;
  *  - correct_scale only: the Sim(3) Umeyama scale applied to positions, no rotation/translation;

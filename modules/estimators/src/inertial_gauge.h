@@ -1,0 +1,68 @@
+/** \file inertial_gauge.h (private to the estimators module)
+ * The four-DoF gauge of the inertial window without pose priors: IMU + relative poses leave the world
+ * translation (x, y, z) and the rotation about the vertical (yaw) unobservable; gravity observes roll and
+ * pitch. The fixed gauge makes those four directions of the first keyframe's pose constant (TiltManifold,
+ * with TiltFactor for the factors on it); the free gauge leaves them to LM and undoes, after each solve,
+ * the four-DoF motion the solve made along them (hold_inertial_gauge). */
+#pragma once
+
+#include <swba/core/factor.h>
+#include <swba/core/manifold.h>
+#include <swba/nonlinear/problem.h>
+
+#include <Eigen/Core>
+#include <map>
+#include <memory>
+#include <vector>
+
+namespace swba::estimators::detail
+{
+/** SE(3) storage, updates (δpitch, δroll) of MRPT's yaw-pitch-roll (ZYX) angles: x, y, z and yaw are never
+ * moved. Valid away from pitch ±90°. */
+class TiltManifold final : public Manifold
+{
+   public:
+	int ambient_size() const override { return SE3Manifold::kAmbient; }
+	int tangent_size() const override { return 2; }
+	void plus(const double* x, const double* delta, double* x_plus) const override;
+	/** Pitch and roll differences (wrapped to (−π, π]); yaw and position differences are dropped. */
+	void minus(const double* y, const double* x, double* delta) const override;
+	static std::shared_ptr<const TiltManifold> instance();
+	/** 6×2: the SE3Manifold tangent [ρ, ω] of a (δpitch, δroll) update at x: ρ = 0, ω = [Rx(roll)ᵀe_y, e_x]. */
+	static Eigen::Matrix<double, 6, 2> basis(const double* x);
+};
+
+/** `inner` with its variable `held` on TiltManifold (the others unchanged): J_held = J_inner,held·basis(x).
+ * The information is `inner`'s. */
+class TiltFactor final : public Factor
+{
+   public:
+	TiltFactor(std::shared_ptr<const Factor> inner, int held);
+	bool evaluate(const double* const* x, double* residual, double* const* jacobians) const override;
+
+   private:
+	std::shared_ptr<const Factor> inner_;
+	int held_;
+};
+
+/** W (6×6, rank 2) of a PosePriorFactor at Z that weighs only the rotations about the world's x and y axes,
+ * each with σ `tilt_sigma`: the gauge directions carry no information. */
+Eigen::Matrix<double, 6, 6> tilt_prior_sqrt_information(const Eigen::Matrix3d& R_Z, double tilt_sigma);
+
+/** The reference of the free gauge: poses and velocities (pairs of ids) at the values the window's frame is
+ * held to. */
+struct InertialGaugeSnapshot
+{
+	std::vector<std::pair<VariableId, VariableId>> ids;
+	std::vector<std::vector<double>> poses;
+	std::vector<Eigen::Vector3d> velocities;
+	void add(VariableId T, const double* pose, VariableId v, const double* velocity);
+};
+
+/** Fits the motion [u (world translation), w (yaw about the world's z)] that best explains the displacement
+ * of the snapshot's poses and velocities from their values there (least squares in their tangent
+ * coordinates) and undoes it on every pose and velocity of `window`: p ← Rz(−w)p − u, R ← Rz(−w)R,
+ * v ← Rz(−w)v. Every factor of the window is invariant under it. */
+void hold_inertial_gauge(Problem& problem, const InertialGaugeSnapshot& before,
+						 const std::vector<std::pair<VariableId, VariableId>>& window);
+}  // namespace swba::estimators::detail
