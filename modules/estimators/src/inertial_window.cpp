@@ -182,6 +182,8 @@ class InertialGraph : smoother::SmootherClient
 	/** Undoes the four-DoF motion since `before` (free gauge only). */
 	void hold_gauge(const detail::InertialGaugeSnapshot& before);
 	void record(InertialTrajectory& out, const Kf& k, const Matrix6d& covariance) const;
+	/** A covariance block of k's pose in the SE(3) tangent (6×6, or 2×2 on the fixed gauge's TiltManifold). */
+	Matrix6d pose_covariance(const Kf& k, const Eigen::MatrixXd& block) const;
 	void reintegrate();
 	// SmootherClient: the oldest keyframe leaves with its velocity and biases.
 	bool hold(const smoother::UpdateSummary& u) override;  ///< the free gauge's hold
@@ -342,10 +344,18 @@ bool InertialGraph::hold(const smoother::UpdateSummary&)
 	return true;
 }
 
+Matrix6d InertialGraph::pose_covariance(const Kf& k, const Eigen::MatrixXd& block) const
+{
+	if (block.rows() == 6) return block;
+	// The fixed gauge's first pose lives on TiltManifold: its 2×2 block mapped to the SE(3) tangent.
+	const Eigen::Matrix<double, 6, 2> B = detail::TiltManifold::basis(sm_.problem().value(k.T));
+	return B * block * B.transpose();
+}
+
 void InertialGraph::solved(const smoother::UpdateSummary& u)
 {
 	const bool ok = o_.covariances && u.covariance.ok && !u.covariance.blocks.empty();
-	record(*online_, kfs_.back(), ok ? Matrix6d(u.covariance.blocks[0]) : Matrix6d::Zero());
+	record(*online_, kfs_.back(), ok ? pose_covariance(kfs_.back(), u.covariance.blocks[0]) : Matrix6d::Zero());
 	reintegrate();
 }
 
