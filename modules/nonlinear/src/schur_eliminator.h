@@ -20,7 +20,7 @@ class SchurEliminator
 {
    public:
 	/** Builds the pattern of the reduced system: the H_pp blocks and every pair of kept variables that
-	 * share an eliminated one. `sparse` chooses the back end (CHOLMOD or dense LDLT). */
+	 * share an eliminated one. `sparse` chooses the back end (CHOLMOD or dense LLT). */
 	SchurEliminator(const Program& program, const NormalEquations& equations, bool sparse, int num_threads);
 
 	bool sparse() const { return sparse_; }

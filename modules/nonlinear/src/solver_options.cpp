@@ -45,7 +45,7 @@ IniKeys<SolverOptions> SolverOptions::ini_keys(const std::string& section)
 					  &O::parameter_tolerance, parse_non_negative),
 		enum_key<O, LinearSolverType>(section, "linear_solver", "linear solver of each LM step", "linear solver",
 									  [](auto& o) -> auto& { return o.linear_solver; }),
-		{section, "dense_max_dim", "unknowns", "with linear_solver = auto: reduced systems up to this size use dense LDLT",
+		{section, "dense_max_dim", "unknowns", "with linear_solver = auto: reduced systems up to this size use dense LLT",
 		 [](const S& v, O& o) { o.dense_max_dim = parse_int_min(v, 0); },
 		 [](const O& o) { return std::to_string(o.dense_max_dim); }},
 		{section, "threads", "count", "threads of the evaluation and assembly",

@@ -1,6 +1,6 @@
 /** \file solver.h
  * Levenberg-Marquardt over a Problem: block-sparse normal equations, Schur complement of the
- * eliminable group, reduced system by dense LDLT or CHOLMOD (supernodal), Nielsen's damping update.
+ * eliminable group, reduced system by dense LLT or CHOLMOD (supernodal), Nielsen's damping update.
  * Options and Summary follow Ceres's conventions (cost = ½Σρ(‖W r‖²)).
  *
  * Factors that cannot be evaluated. A factor whose evaluate() returns false (or a non-finite
@@ -46,9 +46,9 @@ enum class LinearSolverType
 {
 	Auto,          ///< Schur of the eliminable variables not linked to each other by a factor, when their tracks
 	               ///< are short (≤ ~15 factors each) or the full system is ≤ dense_max_dim; dense below dense_max_dim
-	DenseSchur,    ///< Schur complement, reduced system by dense LDLT
+	DenseSchur,    ///< Schur complement, reduced system by dense LLT
 	SparseSchur,   ///< Schur complement, reduced system by CHOLMOD
-	DenseNormal,   ///< no elimination, full normal equations by dense LDLT
+	DenseNormal,   ///< no elimination, full normal equations by dense LLT
 	SparseNormal   ///< no elimination, full normal equations by CHOLMOD
 };
 
@@ -86,7 +86,7 @@ struct SolverOptions
 	double max_lm_diagonal = 1e32;
 	/** Linear solver. Default Auto. */
 	LinearSolverType linear_solver = LinearSolverType::Auto;
-	/** With Auto: reduced systems of at most this dimension may use dense LDLT: always up to 200
+	/** With Auto: reduced systems of at most this dimension may use dense LLT: always up to 200
 	 * unknowns, above that only when ≥ 25 % of the upper block triangle is non-zero. Default 1500. */
 	int dense_max_dim = 1500;
 	/** Threads for residual/Jacobian evaluation and Hessian/Schur assembly. Default 1. */

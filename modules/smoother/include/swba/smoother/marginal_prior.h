@@ -110,8 +110,8 @@ class MarginalPrior
 	/** Adds `v` with zero columns (x_lin = its current value) if absent; returns its index. H and b
 	 * (when known) are extended with zeros: the new columns of J are zero. */
 	int add_variable(const Problem& problem, VariableId v);
-	/** The one change-of-variables routine (see VariableChange): rewrites J's columns, refreshes the
-	 * same rows/columns of H and entries of b, and replaces old_var by new_var with x_lin = new_x_lin.
+	/** The change of variables (see VariableChange) in the prior: rewrites J's columns through
+	 * change_columns(), refreshes the same rows/columns of H and entries of b, and replaces old_var by new_var with x_lin = new_x_lin.
 	 * Does not touch the problem: call install() afterwards. */
 	void change_variable(const Problem& problem, const VariableChange& change);
 
