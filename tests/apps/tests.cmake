@@ -245,6 +245,11 @@ add_test(NAME apps.sweep.parallel_merge_equals_sequential
   COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/sweep_parallel.sh $<TARGET_FILE:swba> ${_out}/sweep_parallel ${_demo})
 set_tests_properties(apps.sweep.parallel_merge_equals_sequential PROPERTIES PASS_REGULAR_EXPRESSION "OK: sweep"
   TIMEOUT 300)
+# Inertial rawlogs in a sweep: one job each, merged report = sequential run, table across rawlogs.
+add_test(NAME apps.sweep.inertial_jobs_equal_sequential
+  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/sweep_inertial.sh $<TARGET_FILE:swba> ${_out}/sweep_inertial)
+set_tests_properties(apps.sweep.inertial_jobs_equal_sequential PROPERTIES PASS_REGULAR_EXPRESSION "OK: inertial sweep"
+  TIMEOUT 300)
 # swba nees sequential vs its jobs on GNU parallel -j 2 + swba merge (2 simulated runs).
 add_test(NAME apps.sweep.nees_parallel_equals_sequential
   COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/nees_sweep.sh $<TARGET_FILE:swba> ${_out}/nees_sweep)

@@ -68,7 +68,7 @@ TEST(InertialFilter, FusionBeatsEachDeadReckoning)
 		const double imu_odo = rmse(run_inertial_filter(in, o), d, s.imu_rate);
 		o.use_odometry = false;
 		const double imu_only = rmse(run_inertial_filter(in, o), d, s.imu_rate);
-		const double odo_only = rmse(run_odometry_dead_reckoning(in, o.prior, inertial_report_times(in)), d, s.imu_rate);
+		const double odo_only = rmse(run_odometry_dead_reckoning(in, o.prior, inertial_report_times(in, o.keyframes)), d, s.imu_rate);
 		std::printf("[eskf] %-8s APE RMSE: fused %.3f m, IMU+odometry %.3f m, IMU only %.3f m, odometry only %.3f m\n",
 					enum_name(kind).c_str(), fused, imu_odo, imu_only, odo_only);
 		EXPECT_LT(fused, 0.5 * 0.5);  // well below the priors' own 0.5 m per axis

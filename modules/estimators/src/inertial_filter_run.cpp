@@ -38,7 +38,7 @@ std::vector<Event> filter_events(const InertialInput& in, const InertialFilterOp
 	if (o.use_pose_priors)
 		for (std::size_t i = 1; i < in.pose_priors.size(); i++)
 			if (in.pose_priors[i].t >= t0) ev.push_back({in.pose_priors[i].t, 1, i});
-	const std::vector<double> reports = inertial_report_times(in);
+	const std::vector<double> reports = inertial_report_times(in, o.keyframes);
 	for (std::size_t i = 0; i < reports.size(); i++)
 		if (reports[i] >= t0) ev.push_back({reports[i], 2, i});
 	std::sort(ev.begin(), ev.end());
@@ -54,11 +54,17 @@ void check_single_odometry_label(const InertialInput& in)
 }
 }  // namespace
 
-std::vector<double> inertial_report_times(const InertialInput& in)
+std::vector<double> inertial_report_times(const InertialInput& in, KeyframeTimes keyframes)
 {
 	std::vector<double> t;
 	for (const auto& r : (in.pose_priors.empty() ? in.odometry : in.pose_priors)) t.push_back(r.t);
-	return t;
+	if (keyframes == KeyframeTimes::PosePriors || in.pose_priors.empty()) return t;
+	for (const auto& r : in.odometry) t.push_back(r.t);
+	std::sort(t.begin(), t.end());
+	std::vector<double> merged;
+	for (double x : t)
+		if (merged.empty() || x - merged.back() >= 1e-6) merged.push_back(x);
+	return merged;
 }
 
 InertialTrajectory run_inertial_filter(const InertialInput& in, const InertialFilterOptions& o)

@@ -10,6 +10,7 @@
 
 #include <Eigen/LU>
 #include <swba/core/timing.h>
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <optional>
@@ -17,27 +18,6 @@
 
 namespace swba::estimators
 {
-SolverOptions InertialWindowOptions::default_solver()
-{
-	SolverOptions s;
-	s.max_iterations = 10;
-	// Nearly Gauss-Newton from the start: the bias random-walk rows are stiff (information 1/(σ_b² Δt),
-	// up to 1e15), so Marquardt's damping λ·diag(JᵀJ) with λ = 1e-4 all but freezes the biases' common
-	// motion, which only the weak pre-integrated deltas determine; LM then needs tens of iterations to grow
-	// its trust region. The window starts from the IMU prediction, close to the optimum.
-	s.initial_trust_region_radius = 1e12;
-	return s;
-}
-
-void InertialWindowOptions::validate() const
-{
-	if (window_size == 1 || window_size < 0) throw std::invalid_argument("window_size must be 0 or >= 2");
-	measurements.noise.validate();
-	measurements.prior.validate();
-	if (!(reintegrate_accel > 0) || !(reintegrate_gyro > 0))
-		throw std::invalid_argument("re-integration thresholds must be positive");
-}
-
 namespace
 {
 struct Relative
@@ -54,12 +34,13 @@ struct KeyframeData
 	std::optional<Relative> relative;
 };
 
-/** The odometry reading at time t (within 1 µs), if any. */
-std::optional<std::size_t> odometry_at(const std::vector<io::PoseReading>& odo, double t)
+/** The reading at time t (within 1 µs), if any; `readings` in time order. */
+std::optional<std::size_t> reading_at(const std::vector<io::PoseReading>& readings, double t)
 {
-	for (std::size_t k = 0; k < odo.size(); k++)
-		if (std::abs(odo[k].t - t) < 1e-6) return k;
-	return std::nullopt;
+	const auto it = std::lower_bound(readings.begin(), readings.end(), t - 1e-6,
+									 [](const io::PoseReading& r, double x) { return r.t < x; });
+	if (it == readings.end() || std::abs(it->t - t) >= 1e-6) return std::nullopt;
+	return static_cast<std::size_t>(it - readings.begin());
 }
 
 /** The increments a→b of the odometry composed, D = D_{a+1}·…·D_b, with covariance moved into D's tangent
@@ -79,17 +60,16 @@ Relative composed_increment(const std::vector<io::PoseReading>& odo, std::size_t
 
 std::vector<KeyframeData> keyframes(const InertialInput& in, const InertialFilterOptions& o, double t0)
 {
-	const bool from_priors = !in.pose_priors.empty();
 	std::vector<KeyframeData> out;
 	std::optional<std::size_t> prev_odo;
-	const std::vector<double> times = inertial_report_times(in);
-	for (std::size_t i = 0; i < times.size(); i++)
+	for (const double t : inertial_report_times(in, o.keyframes))
 	{
-		if (times[i] < t0 || times[i] > in.imu.back().t) continue;
+		if (t < t0 || t > in.imu.back().t) continue;
 		KeyframeData k;
-		k.t = times[i];
-		if (from_priors && (o.use_pose_priors || out.empty())) k.prior = in.pose_priors[i];
-		const std::optional<std::size_t> odo = o.use_odometry ? odometry_at(in.odometry, k.t) : std::nullopt;
+		k.t = t;
+		const std::optional<std::size_t> prior = reading_at(in.pose_priors, t);
+		if (prior && (o.use_pose_priors || out.empty())) k.prior = in.pose_priors[*prior];
+		const std::optional<std::size_t> odo = o.use_odometry ? reading_at(in.odometry, k.t) : std::nullopt;
 		if (odo && prev_odo && !out.empty()) k.relative = composed_increment(in.odometry, *prev_odo, *odo);
 		if (odo) prev_odo = odo;
 		out.push_back(std::move(k));

@@ -112,10 +112,10 @@ double seconds_of(const std::function<void()>& f)
 void run_rows(const RunOptions& o, const estimators::InertialInput& in, const eval::Trajectory& gt, Rows& r,
 			  std::ostream& log)
 {
-	estimators::InertialWindowOptions wo;
-	wo.measurements.noise = o.imu;
+	estimators::InertialWindowOptions wo = o.inertial;
 	wo.solver.num_threads = o.window.solver.num_threads;
-	const std::size_t kf = estimators::inertial_report_times(in).size();
+	const std::vector<double> reports = estimators::inertial_report_times(in, wo.measurements.keyframes);
+	const std::size_t kf = reports.size();
 	estimators::InertialTrajectory t;
 	double s = seconds_of([&] { t = estimators::run_inertial_filter(in, wo.measurements); });
 	add_row(r, "eskf", "eskf", 0, "online", t, s, t.imu_steps, gt);
@@ -125,7 +125,7 @@ void run_rows(const RunOptions& o, const estimators::InertialInput& in, const ev
 	add_row(r, "imu-only", "imu only", 0, "online", t, s, t.imu_steps, gt);
 	if (!in.odometry.empty())
 	{
-		s = seconds_of([&] { t = estimators::run_odometry_dead_reckoning(in, dr.prior, estimators::inertial_report_times(in)); });
+		s = seconds_of([&] { t = estimators::run_odometry_dead_reckoning(in, dr.prior, reports); });
 		add_row(r, "odometry-only", "odometry only", 0, "online", t, s, t.t.size(), gt);
 	}
 	for (int W : o.windows)
@@ -237,7 +237,7 @@ RunReport run_inertial_app(const RunOptions& o, std::ostream& out, std::ostream&
 	RunReport rep;
 	rep.rawlog = o.rawlog;
 	rep.ground_truth = inertial_ground_truth_path(o);
-	rep.steps = estimators::inertial_report_times(in).size();
+	rep.steps = estimators::inertial_report_times(in, o.inertial.measurements.keyframes).size();
 	const eval::Trajectory gt = rep.ground_truth.empty() ? eval::Trajectory() : eval::read_tum(rep.ground_truth);
 	log << "swba run: inertial rawlog " << o.rawlog << ": " << in.imu.size() << " IMU readings, " << in.pose_priors.size()
 		<< " pose priors, " << in.odometry.size() << " odometry poses; ground truth: "

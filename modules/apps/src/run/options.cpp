@@ -143,7 +143,8 @@ IniKeys<RunOptions> make_key_table()
 	append_keys(t, io::OdometryInformationOptions::ini_keys("odometry"),
 				[](auto& o) -> auto& { return o.window.odometry; });
 	append_keys(t, io::SensorRoles::ini_keys("sensors"), [](auto& o) -> auto& { return o.sensors; });
-	append_keys(t, ImuNoise::ini_keys("imu"), [](auto& o) -> auto& { return o.imu; });
+	append_keys(t, estimators::InertialWindowOptions::ini_keys("inertial"), [](auto& o) -> auto& { return o.inertial; });
+	append_keys(t, ImuNoise::ini_keys("imu"), [](auto& o) -> auto& { return o.inertial.measurements.noise; });
 	return t;
 }
 }  // namespace
@@ -363,7 +364,8 @@ void RunOptions::validate() const
 		w.policy = policy;
 		w.validate();
 	}
-	validate_with_prefix(imu, "[imu]: ");
+	validate_with_prefix(inertial.measurements.noise, "[imu]: ");
+	validate_with_prefix(inertial, "[inertial]: ");
 	validate_with_prefix(sensors, "[sensors]: ");
 }
 }  // namespace swba::apps

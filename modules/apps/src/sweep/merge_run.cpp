@@ -236,6 +236,33 @@ void draw_merged_plots(const RunOptions& run, const std::string& dir, RunReport&
 	files.insert(files.end(), report.files.begin(), report.files.end());
 }
 
+/** An inertial rawlog: its one job's outputs copied into `dir` as they are; `table` is its ape.txt and
+ * the report's rows carry the labels and APE of its summary.json (for the table across rawlogs). */
+RunReport merge_inertial_group(const SweepPlan& plan, const SweepGroup& g, const std::string& dir, std::string& table,
+							   std::vector<std::string>& files)
+{
+	const std::string job_dir = job_directory(plan, plan.jobs[g.jobs.front() - 1]);
+	std::error_code ec;
+	fs::create_directories(dir, ec);
+	if (ec) throw std::runtime_error("cannot create '" + dir + "': " + ec.message());
+	for (const auto& entry : fs::directory_iterator(job_dir))
+		if (entry.is_regular_file()) copy_file(entry.path().string(), dir + "/" + entry.path().filename().string(), files);
+	table = read_text_file(job_dir + "/ape.txt", "job output");
+	std::ifstream f = open_input_file(job_dir + "/summary.json", std::ios::in, "job summary");
+	const ordered_json j = ordered_json::parse(f);
+	RunReport report;
+	report.rawlog = j.at("rawlog").get<std::string>();
+	for (const auto& e : j.at("rows"))
+	{
+		RunRow row;
+		row.label = e.at("label").get<std::string>();
+		row.has_ape = e.contains("ape_trans");
+		if (row.has_ape) row.ape_trans.rmse = e.at("ape_trans").at("rmse").get<double>();
+		report.rows.push_back(row);
+	}
+	return report;
+}
+
 /** One rawlog: its jobs merged into `dir`. */
 RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptions& config, const std::string& dir,
 					  const MergeOptions& options, std::vector<std::string>& files)
@@ -287,8 +314,10 @@ RunMerge merge_run_sweep(const SweepPlan& plan, const MergeOptions& options, std
 	for (const auto& g : plan.groups)
 	{
 		const std::string dir = out_dir + "/" + g.name;
-		RunReport report = merge_group(plan, g, config, dir, options, result.files);
-		out << format_comparison_table(report) << "\n" << std::flush;
+		std::string table;
+		RunReport report = g.inertial ? merge_inertial_group(plan, g, dir, table, result.files)
+									  : merge_group(plan, g, config, dir, options, result.files);
+		out << (g.inertial ? table : format_comparison_table(report)) << "\n" << std::flush;
 		for (const auto& note : report.notes) log << "note: " << g.name << ": " << note << "\n";
 		for (const auto& r : report.rows)
 		{

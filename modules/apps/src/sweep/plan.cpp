@@ -1,8 +1,10 @@
 // swba jobs: the job list of a sweep, its Slurm script and its manifest (see sweep.h).
+#include <swba/apps/inertial_run.h>
 #include <swba/apps/simulate.h>
 #include <swba/apps/sweep.h>
 #include <swba/core/file.h>
 #include <swba/eval/ground_truth.h>
+#include <swba/io/observation_rawlog.h>
 
 #include <nlohmann/json.hpp>
 
@@ -182,8 +184,11 @@ SweepPlan plan_sweep(const SweepOptions& o)
 		SweepGroup g;
 		g.rawlog = absolute(r);
 		g.name = file_safe(rawlog_stem(r));
-		const std::string gt = eval::default_ground_truth_path(g.rawlog);
-		if (fs::exists(gt)) g.ground_truth = gt;
+		g.inertial = io::is_observation_rawlog(g.rawlog);
+		RunOptions gt_of;
+		gt_of.rawlog = g.rawlog;
+		const std::string gt = g.inertial ? inertial_ground_truth_path(gt_of) : eval::default_ground_truth_path(g.rawlog);
+		if (!gt.empty() && fs::exists(gt)) g.ground_truth = gt;
 		plan.groups.push_back(g);
 	}
 	for (auto& g : plan.groups)
@@ -193,7 +198,8 @@ SweepPlan plan_sweep(const SweepOptions& o)
 	for (std::size_t gi = 0; gi < plan.groups.size(); gi++)
 	{
 		SweepGroup& g = plan.groups[gi];
-		const std::vector<int> windows = o.kind == SweepKind::Nees ? std::vector<int>{0} : o.run.windows;
+		const bool one_job = o.kind == SweepKind::Nees || g.inertial;
+		const std::vector<int> windows = one_job ? std::vector<int>{0} : o.run.windows;
 		// The job of the widest window also runs the EKF, the batch and the causal row: the batch starts
 		// from the widest window's lagged trajectory, as in one swba run of every window.
 		const std::size_t full = static_cast<std::size_t>(std::max_element(windows.begin(), windows.end()) - windows.begin());
@@ -258,6 +264,7 @@ std::string format_sweep_manifest(const SweepPlan& plan)
 		e["rawlog"] = g.rawlog.empty() ? ordered_json(nullptr) : ordered_json(g.rawlog);
 		e["ground_truth"] = g.ground_truth.empty() ? ordered_json(nullptr) : ordered_json(g.ground_truth);
 		e["seed"] = g.seed ? ordered_json(g.seed) : ordered_json(nullptr);
+		e["inertial"] = g.inertial;
 		e["jobs"] = g.jobs;
 		j["groups"].push_back(e);
 	}
@@ -318,6 +325,7 @@ SweepPlan read_sweep_manifest(const std::string& dir)
 			if (!e.at("rawlog").is_null()) g.rawlog = e.at("rawlog").get<std::string>();
 			if (!e.at("ground_truth").is_null()) g.ground_truth = e.at("ground_truth").get<std::string>();
 			if (!e.at("seed").is_null()) g.seed = e.at("seed").get<long>();
+			g.inertial = e.value("inertial", false);
 			g.jobs = e.at("jobs").get<std::vector<std::size_t>>();
 			group_of[g.name] = plan.groups.size();
 			plan.groups.push_back(g);
@@ -370,6 +378,17 @@ std::size_t full_job_of(const SweepPlan& plan, std::size_t g)
 	return best;
 }
 
+/** Why an inertial job's summary.json is not a complete inertial report ("" when it is): swba run
+ * writes it once, after every row. */
+std::string inertial_summary_problem(const std::string& path)
+{
+	std::ifstream f(path);
+	const ordered_json j = ordered_json::parse(f, nullptr, false);
+	if (j.is_discarded() || j.value("kind", "") != "inertial" || !j.contains("rows") || !j["rows"].is_array())
+		return "summary.json is not a swba run summary of an inertial rawlog";
+	return "";
+}
+
 /** The rows a job's summary.json has when the job ran to its end: a job stopped half-way (killed) leaves
  * the summary of the estimators it completed, which must not pass for a complete one. */
 std::size_t expected_rows(const RunOptions& o, const SweepJob& job)
@@ -397,6 +416,8 @@ void check_jobs_complete(const SweepPlan& plan, std::ostream& log)
 		std::string why;
 		if (!fs::is_regular_file(summary))
 			why = "no summary.json";
+		else if (plan.groups[job.group].inertial)
+			why = inertial_summary_problem(summary);
 		else
 		{
 			std::ifstream f(summary);

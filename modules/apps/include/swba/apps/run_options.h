@@ -1,7 +1,7 @@
 /** \file run_options.h
  * Options of `swba run` (swba::apps::RunOptions) and their INI file, in MRPT's
  * CLoadableOptions style (sections [run], [window], [solver], [ekf], [sensor], [odometry], and for
- * inertial rawlogs [sensors], [imu]; read with
+ * inertial rawlogs [sensors], [inertial], [imu]; read with
  * mrpt::config::CConfigFile). Each options struct declares its own keys next to itself
  * (SlidingWindowOptions, SolverOptions, SensorNoiseOptions, OdometryInformationOptions::ini_keys); this
  * file adds the run's own ([run], the window sweep, [ekf]) and composes them. Unlike MRPT, an unknown or misspelt section or key is an error
@@ -14,7 +14,7 @@
 
 #include <swba/core/ini.h>
 #include <swba/estimators/sliding_window.h>
-#include <swba/factors/imu_preintegration.h>
+#include <swba/estimators/inertial_window.h>
 #include <swba/io/observation_rawlog.h>
 
 #include <cstddef>
@@ -71,8 +71,10 @@ struct RunOptions
 	estimators::SlidingWindowOptions window;
 	/** Inertial rawlogs (observation format): which sensor label plays which role ([sensors]). */
 	io::SensorRoles sensors;
-	/** Inertial rawlogs: the IMU's noise densities, random walks and gravity ([imu]). */
-	ImuNoise imu;
+	/** Inertial rawlogs: the window's keyframes, gauge and re-integration ([inertial]) and the IMU's noise
+	 * densities, random walks and gravity ([imu], in measurements.noise). window_size is taken from the
+	 * window sizes above for each row. */
+	estimators::InertialWindowOptions inertial;
 
 	/** Throws std::invalid_argument with a one-line reason naming the option. */
 	void validate() const;

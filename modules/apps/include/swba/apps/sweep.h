@@ -72,6 +72,9 @@ struct SweepGroup
 	std::string rawlog;			 ///< absolute path ("" for a simulated one: each job makes its own)
 	std::string ground_truth;	 ///< absolute path, "" = none
 	long seed = 0;				 ///< simulated rawlogs: the seed
+	/** An inertial (observation-format) rawlog: one job runs every window and the merge takes its report
+	 * as it is (the inertial rows are not split by W). */
+	bool inertial = false;
 	std::vector<std::size_t> jobs;	///< ids of its jobs, in window order
 };
 

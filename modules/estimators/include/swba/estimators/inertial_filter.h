@@ -11,12 +11,14 @@
  * factors (converted from the SE(3) manifold's [ρ (body), ω] to [δp (world), δφ]). */
 #pragma once
 
+#include <swba/core/names.h>
 #include <swba/factors/imu_preintegration.h>
 #include <swba/io/observation_rawlog.h>
 
 #include <mrpt/poses/CPose3D.h>
 
 #include <Eigen/Core>
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -115,17 +117,33 @@ class ErrorStateKalmanFilter
 	std::optional<Clone> clone_;
 };
 
-/** Which measurements a filter run uses. */
+/** Where the window's keyframes are, and so where every inertial row reports its estimate. */
+enum class KeyframeTimes
+{
+	/** At the pose-prior times (the odometry times without priors): the odometry increments between two
+	 * keyframes are composed into one relative pose, and a window of W keyframes spans W prior periods. */
+	PosePriors,
+	/** At every pose reading (pose priors and odometry poses): nothing is composed, so the online window is
+	 * the filter's estimate; a window of W keyframes spans fewer seconds when the odometry is faster. */
+	PoseReadings
+};
+
+constexpr std::array<EnumName<KeyframeTimes>, 2> enum_names(KeyframeTimes)
+{
+	return {{{KeyframeTimes::PosePriors, "priors"}, {KeyframeTimes::PoseReadings, "poses"}}};
+}
+
+/** Which measurements a filter run uses, and where it reports. */
 struct InertialFilterOptions
 {
 	ImuNoise noise;
 	InertialPriorOptions prior;
 	bool use_pose_priors = true;  ///< (Default = true)
 	bool use_odometry = true;	  ///< (Default = true)
+	KeyframeTimes keyframes = KeyframeTimes::PosePriors;  ///< (Default = PosePriors)
 };
 
-/** The filter's estimate after each report time (the pose-prior times, or the odometry times when there
- * are no priors), and the filter's cost. */
+/** The filter's estimate after each report time (inertial_report_times), and the filter's cost. */
 struct InertialTrajectory
 {
 	std::vector<double> t;
@@ -136,8 +154,9 @@ struct InertialTrajectory
 	std::size_t imu_steps = 0;
 };
 
-/** Report times of an input: its pose-prior times, or its odometry times when it has no prior. */
-std::vector<double> inertial_report_times(const InertialInput& input);
+/** Report times of an input: its pose-prior times, or its odometry times when it has no prior; with
+ * KeyframeTimes::PoseReadings the odometry times too (merged in time order; readings within 1 µs are one time). */
+std::vector<double> inertial_report_times(const InertialInput& input, KeyframeTimes keyframes);
 
 /** Runs the ESKF over the whole input (IMU-only dead reckoning with both updates off). */
 InertialTrajectory run_inertial_filter(const InertialInput& input, const InertialFilterOptions& options);

@@ -14,11 +14,13 @@
  * are held (the first keyframe's roll and pitch get the prior odometry_tilt_sigma in every mode). */
 #pragma once
 
+#include <swba/core/ini.h>
 #include <swba/estimators/inertial_filter.h>
 #include <swba/nonlinear/gauge.h>
 #include <swba/nonlinear/solver.h>
 
 #include <cstddef>
+#include <string>
 
 namespace swba::estimators
 {
@@ -54,6 +56,9 @@ struct InertialWindowOptions
 	static SolverOptions default_solver();
 	/** Throws std::invalid_argument naming the option. */
 	void validate() const;
+	/** INI keys: keyframes, gauge, first_estimate_jacobians, reintegrate_accel, reintegrate_gyro (the IMU
+	 * noise has its own section: ImuNoise::ini_keys). */
+	static IniKeys<InertialWindowOptions> ini_keys(const std::string& section);
 };
 
 /** A window run: the online estimate (the newest keyframe after its update), the lagged estimate (each
