@@ -47,7 +47,8 @@ constexpr std::array<EnumName<SweepKind>, 2> enum_names(SweepKind)
 struct SweepOptions
 {
 	SweepKind kind = SweepKind::Run;
-	/** Rawlogs to run on (ground truth: <name>_ground_truth_robot_path.txt next to each, if present). */
+	/** Rawlogs to run on (ground truth: <name>_ground_truth_robot_path.txt next to each, if present; for an
+	 * inertial rawlog <name>_ground_truth.tum). */
 	std::vector<std::string> rawlogs;
 	/** simul-landmarks INI: one simulated rawlog per seed, made by the job itself (swba simulate). */
 	std::string simulate_ini;
@@ -99,7 +100,7 @@ struct SweepPlan
 };
 
 /** The jobs: for a run sweep one per rawlog × W (the first W of each rawlog also runs the EKF, the batch
- * and the causal optimum), for a NEES sweep one per seed. Paths in the commands are absolute. */
+ * and the causal optimum) and one per inertial rawlog (every W), for a NEES sweep one per seed. Paths in the commands are absolute. */
 SweepPlan plan_sweep(const SweepOptions& options);
 
 /** "1-5,9" → {1, 2, 3, 4, 5, 9}. Throws std::invalid_argument naming `what` on an empty item, a
