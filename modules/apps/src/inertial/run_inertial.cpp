@@ -1,10 +1,13 @@
 #include <swba/apps/inertial_run.h>
 
+#include "../run/plots.h"
+
 #include <swba/core/chi2.h>
 #include <swba/estimators/inertial_window.h>
 #include <swba/eval/association.h>
 #include <swba/eval/metrics.h>
 #include <swba/eval/nees.h>
+#include <swba/eval/plot.h>
 #include <swba/eval/trajectory.h>
 
 #include <nlohmann/json.hpp>
@@ -219,6 +222,27 @@ void write_outputs(const RunOptions& o, const RunReport& rep, const Rows& r, con
 	files.push_back(ape);
 	files.push_back(js);
 }
+/** The plots of swba run (top view, APE vs W, error over time, colormaps) of the rows other than dead
+ * reckoning (whose metres-to-kilometres errors would set every scale); notes go to `log`. */
+void write_inertial_plots(const RunOptions& o, const eval::Trajectory& gt, RunReport rep, std::vector<std::string>& files,
+						  std::ostream& log)
+{
+	RunOptions po = o;
+	po.policies.resize(1);
+	po.fej.resize(1);
+	std::vector<RunRow> shown;
+	for (auto& r : rep.rows)
+		if (r.name != "imu-only" && r.name != "odometry-only") shown.push_back(std::move(r));
+	rep.rows = std::move(shown);
+	rep.files.clear();
+	rep.time_label = "t (s)";
+	if (eval::find_gnuplot().empty())
+		rep.notes.push_back("gnuplot not found: plots not drawn; their data (.dat) and scripts (.gp) are in " + o.out_dir +
+							"/ and " + o.out_dir + "/plots/");
+	write_run_plots(po, gt, rep);
+	files.insert(files.end(), rep.files.begin(), rep.files.end());
+	for (const auto& n : rep.notes) log << "note: " << n << "\n";
+}
 }  // namespace
 
 std::string inertial_ground_truth_path(const RunOptions& o)
@@ -248,6 +272,7 @@ RunReport run_inertial_app(const RunOptions& o, std::ostream& out, std::ostream&
 	const std::string table = format_table(r);
 	rep.rows = r.rows;
 	write_outputs(o, rep, r, table, rep.files);
+	if (o.plots && !gt.empty()) write_inertial_plots(o, gt, rep, rep.files, log);
 	out << table << std::flush;
 	log << "swba run: wrote " << rep.files.size() << " files into " << o.out_dir << "/\n";
 	return rep;

@@ -76,7 +76,8 @@ std::vector<const RunRow*> top_view_rows(const RunReport& report)
 			widest = &r;
 	std::vector<const RunRow*> shown;
 	for (const auto& r : report.rows)
-		if (!r.failed && !r.estimate.empty() && (r.name == "ekf" || r.name == "batch" || r.name == "causal" || &r == widest))
+		if (!r.failed && !r.estimate.empty() &&
+			(r.name == "ekf" || r.name == "eskf" || r.name == "batch" || r.name == "causal" || &r == widest))
 			shown.push_back(&r);
 	return shown;
 }
@@ -163,7 +164,7 @@ void plot_row_errors(const std::string& dir, const RunRow& r, const RowTriage& t
 	eval::ErrorOverTime e;
 	e.title = "APE w.r.t. translation part (not aligned): " + r.label + (triage.is_diverged(r) ? " (diverged)" : "");
 	e.label = "APE translation";
-	e.xlabel = "t = step k + 1";
+	e.xlabel = report.time_label;
 	e.ylabel = "APE translation (m)";
 	e.stamps = r.estimate.stamps;
 	e.errors = r.ape_trans_errors;
@@ -203,15 +204,19 @@ void plot_colormaps(const std::string& dir, const eval::Trajectory& gt, const Ro
 void write_run_plots(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& ground_truth,
 					 RunReport& report)
 {
-	eval::PlotOptions po;
-	const RowTriage triage = triage_rows(report);
-	for (const auto& line : triage.failed_lines) report.notes.push_back(line);
-	for (const RunRow* r : triage.diverged) report.notes.push_back(triage.diverged_line(*r));
 	// Rows 0 … steps, as gt.tum: a --max-steps run does not draw the rest of the ground truth.
 	const std::vector<mrpt::poses::CPose3D> used(
 		ground_truth.begin(),
 		ground_truth.begin() + static_cast<std::ptrdiff_t>(std::min(ground_truth.size(), report.steps + 1)));
-	const auto gt = eval::ground_truth_trajectory(used);
+	write_run_plots(options, eval::ground_truth_trajectory(used), report);
+}
+
+void write_run_plots(const RunOptions& options, const eval::Trajectory& gt, RunReport& report)
+{
+	eval::PlotOptions po;
+	const RowTriage triage = triage_rows(report);
+	for (const auto& line : triage.failed_lines) report.notes.push_back(line);
+	for (const RunRow* r : triage.diverged) report.notes.push_back(triage.diverged_line(*r));
 	plot_top_view(options.out_dir, gt, triage, report, po);
 	plot_ape_vs_window(options, triage, report, po);
 	const std::string per_row = options.out_dir + "/plots";

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <swba/apps/run.h>
+#include <swba/eval/trajectory.h>
 
 namespace swba::apps
 {
@@ -16,4 +17,6 @@ constexpr double kDivergedFactor = 10.0;
  * report.notes. Files go to report.files. */
 void write_run_plots(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& ground_truth,
 					 RunReport& report);
+/** The same with the ground truth as a trajectory (drawn whole; the rows' APE errors already computed). */
+void write_run_plots(const RunOptions& options, const eval::Trajectory& ground_truth, RunReport& report);
 }  // namespace swba::apps

@@ -112,6 +112,7 @@ struct RunReport
 	std::vector<RunRow> rows;
 	std::vector<std::string> files;    ///< files written (full paths), in writing order
 	std::vector<std::string> notes;    ///< one line each (plot notes, reader warnings, …)
+	std::string time_label = "t = step k + 1";  ///< what the rows' time stamps are (x axis of the plots over time)
 };
 
 /** How a caller steers a long run: `stop_requested` is polled between steps (window, EKF) and before
