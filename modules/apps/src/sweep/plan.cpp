@@ -154,6 +154,24 @@ std::string shell_quote(const std::string& w)
 
 std::string job_directory(const SweepPlan& plan, const SweepJob& job) { return plan.dir + "/" + job.dir; }
 
+namespace
+{
+/** A given rawlog's group: its kind (range-bearing or inertial) and the ground truth next to it. */
+SweepGroup rawlog_group(const std::string& r)
+{
+	check_input_file(r, "rawlog");
+	SweepGroup g;
+	g.rawlog = absolute(r);
+	g.name = file_safe(rawlog_stem(r));
+	g.inertial = io::is_observation_rawlog(g.rawlog);
+	RunOptions gt_of;
+	gt_of.rawlog = g.rawlog;
+	const std::string gt = g.inertial ? inertial_ground_truth_path(gt_of) : eval::default_ground_truth_path(g.rawlog);
+	if (!gt.empty() && fs::exists(gt)) g.ground_truth = gt;
+	return g;
+}
+}  // namespace
+
 SweepPlan plan_sweep(const SweepOptions& o)
 {
 	o.validate();
@@ -178,19 +196,7 @@ SweepPlan plan_sweep(const SweepOptions& o)
 		}
 	}
 	std::set<std::string> names;
-	for (const auto& r : o.rawlogs)
-	{
-		check_input_file(r, "rawlog");
-		SweepGroup g;
-		g.rawlog = absolute(r);
-		g.name = file_safe(rawlog_stem(r));
-		g.inertial = io::is_observation_rawlog(g.rawlog);
-		RunOptions gt_of;
-		gt_of.rawlog = g.rawlog;
-		const std::string gt = g.inertial ? inertial_ground_truth_path(gt_of) : eval::default_ground_truth_path(g.rawlog);
-		if (!gt.empty() && fs::exists(gt)) g.ground_truth = gt;
-		plan.groups.push_back(g);
-	}
+	for (const auto& r : o.rawlogs) plan.groups.push_back(rawlog_group(r));
 	for (auto& g : plan.groups)
 		if (!names.insert(g.name).second)
 			throw std::invalid_argument("two rawlogs are named '" + g.name + "': run them as two sweeps");
