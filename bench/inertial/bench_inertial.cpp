@@ -4,6 +4,8 @@
 #include <swba/estimators/inertial_window.h>
 #include <swba/problems/inertial_simulation.h>
 
+#include "simulated_input.h"
+
 #include <algorithm>
 #include <swba/core/timing.h>
 #include <cmath>
@@ -12,18 +14,10 @@
 using namespace swba;
 using namespace swba::estimators;
 using namespace swba::problems;
+using swba::bench::input_of;
 
 namespace
 {
-InertialInput input_of(const InertialDataset& d)
-{
-	InertialInput in;
-	in.imu = d.imu;
-	for (const auto& z : d.pose_priors) in.pose_priors.push_back({z.t, "MAP", z.pose, z.covariance});
-	for (const auto& z : d.odometry) in.odometry.push_back({z.t, "ODO", z.pose, z.covariance});
-	return in;
-}
-
 double rmse(const InertialTrajectory& tr, const InertialDataset& d, double rate)
 {
 	double s = 0;

@@ -7,6 +7,8 @@
 #include <swba/estimators/inertial_window.h>
 #include <swba/problems/inertial_simulation.h>
 
+#include "simulated_input.h"
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -15,31 +17,10 @@
 using namespace swba;
 using namespace swba::estimators;
 using namespace swba::problems;
+using swba::bench::input_of;
 
 namespace
 {
-InertialInput input_of(const InertialDataset& d)
-{
-	InertialInput in;
-	in.imu = d.imu;
-	for (const auto& z : d.pose_priors) in.pose_priors.push_back({z.t, "MAP", z.pose, z.covariance});
-	for (const auto& z : d.odometry) in.odometry.push_back({z.t, "ODO", z.pose, z.covariance});
-	return in;
-}
-
-/** The input with every reading after t dropped. */
-InertialInput truncated(const InertialInput& in, double t)
-{
-	InertialInput out;
-	for (const auto& s : in.imu)
-		if (s.t <= t + 1e-9) out.imu.push_back(s);
-	for (const auto& z : in.pose_priors)
-		if (z.t <= t + 1e-9) out.pose_priors.push_back(z);
-	for (const auto& z : in.odometry)
-		if (z.t <= t + 1e-9) out.odometry.push_back(z);
-	return out;
-}
-
 /** Squared position error of the pose at time t of `tr` (exactly one must be there). */
 double squared_error(const InertialTrajectory& tr, double t, const InertialDataset& d, double rate)
 {
@@ -77,7 +58,7 @@ int main(int argc, char** argv)
 	for (std::size_t k = static_cast<std::size_t>(stride); k + static_cast<std::size_t>(W) < kf.size();
 		 k += static_cast<std::size_t>(stride))
 	{
-		const InertialTrajectory prefix = run_inertial_batch(truncated(in, kf[k + static_cast<std::size_t>(W)]), o);
+		const InertialTrajectory prefix = run_inertial_batch(inertial_input_until(in, kf[k + static_cast<std::size_t>(W)]), o);
 		lag += squared_error(prefix, kf[k], d, s.imu_rate);
 		win += squared_error(w.lagged, kf[k], d, s.imu_rate);
 		all += squared_error(batch, kf[k], d, s.imu_rate);

@@ -92,6 +92,33 @@ TEST(InertialWindow, OnlineMatchesTheFilterAndSmoothingImprovesOnIt)
 	}
 }
 
+TEST(InertialWindow, LaggedEstimateIsTheBatchOverTheDataUpToTheLag)
+{
+	// The window's estimate of keyframe k when it leaves at k + W is what the batch over the data up to
+	// keyframe k + W says of k (the lag-W optimum), up to the linearisation the marginal prior froze: the
+	// marginalisation loses nothing a fixed-lag estimator could keep.
+	InertialSimulationOptions s;
+	s.duration = 12;
+	const InertialDataset d = simulate_inertial(s);
+	const InertialInput in = input_of(d);
+	const int W = 10;
+	const InertialWindowOptions o = window_options(d, s.grade, W);
+	const InertialWindowResult w = run_inertial_window(in, o);
+	double worst = 0;
+	int n = 0;
+	for (std::size_t k = 5; k + W < w.lagged.t.size(); k += 25)
+	{
+		const InertialTrajectory b = run_inertial_batch(inertial_input_until(in, w.lagged.t[k + W]), o);
+		ASSERT_EQ(b.t.size(), k + W + 1);
+		ASSERT_NEAR(b.t[k], w.lagged.t[k], 1e-9);
+		worst = std::max(worst, (position(b.poses[k]) - position(w.lagged.poses[k])).norm());
+		n++;
+	}
+	std::printf("[window] lagged vs the lag-%d optimum at %d keyframes: position differs by %.3g m at most\n", W, n, worst);
+	ASSERT_GE(n, 4);
+	EXPECT_LT(worst, 1e-3);  // the lagged error here is about 0.1 m
+}
+
 TEST(InertialWindow, ReintegratesTheImuFactorsWhoseBiasMovedFar)
 {
 	// Consumer grade: the biases (drawn with σ 0.05 m/s², 0.005 rad/s) are estimated from a zero start, so

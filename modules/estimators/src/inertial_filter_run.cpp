@@ -54,6 +54,20 @@ void check_single_odometry_label(const InertialInput& in)
 }
 }  // namespace
 
+InertialInput inertial_input_until(const InertialInput& in, double t)
+{
+	InertialInput out;
+	auto until = [t](const auto& readings) {  // readings in time order
+		const auto end = std::upper_bound(readings.begin(), readings.end(), t,
+										  [](double x, const auto& r) { return x < r.t; });
+		return std::vector(readings.begin(), end);
+	};
+	out.imu = until(in.imu);
+	out.pose_priors = until(in.pose_priors);
+	out.odometry = until(in.odometry);
+	return out;
+}
+
 std::vector<double> inertial_report_times(const InertialInput& in, KeyframeTimes keyframes)
 {
 	std::vector<double> t;

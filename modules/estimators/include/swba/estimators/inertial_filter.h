@@ -37,6 +37,9 @@ struct InertialInput
 /** The IMU readings of an observation rawlog as ImuSample (same fields). */
 InertialInput inertial_input(const io::ObservationRawlog& log);
 
+/** The input with every reading after time t dropped (what an estimator has seen at t). */
+InertialInput inertial_input_until(const InertialInput& input, double t);
+
 /** Priors on the first state: its pose from the first pose prior (else the first odometry pose: the
  * odometry's frame is then the world up to a tilt, see odometry_tilt_sigma), its velocity from the first
  * odometry increment (else zero) and zero biases. */
