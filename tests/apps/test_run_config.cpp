@@ -46,6 +46,8 @@ std::string non_default_ini()
 		   "[sensor]\nstd_range_m = 0.5\nstd_yaw_deg = 2\nstd_pitch_deg = 3\n"
 		   "[odometry]\nmin_sigma_translation_m = 0.5\nmin_sigma_rotation_rad = 0.25\n"
 		   "[sensors]\nimu = XSENS\npose_prior = MAP\nodometry = LIDAR\n"
+		   "[inertial]\nkeyframes = poses\ngauge = fixed\nfirst_estimate_jacobians = false\nreintegrate_accel = 0.5\n"
+		   "reintegrate_gyro = 0.25\n"
 		   "[imu]\naccel_noise_density = 0.5\ngyro_noise_density = 0.25\naccel_random_walk = 0.125\n"
 		   "gyro_random_walk = 0.0625\ngravity_z = -9.8\n";
 }
@@ -79,6 +81,9 @@ TEST(RunConfig, NonDefaultIniSetsEveryKey)
 	EXPECT_FALSE(o.window.covariances);
 	EXPECT_EQ(o.window.association, swba::estimators::DataAssociation::NearestNeighbour);
 	EXPECT_FALSE(o.window.reassociate);
+	EXPECT_EQ(o.inertial.measurements.keyframes, swba::estimators::KeyframeTimes::PoseReadings);
+	EXPECT_EQ(o.inertial.gauge, swba::GaugeMode::Fixed);
+	EXPECT_DOUBLE_EQ(o.inertial.measurements.noise.gyro_noise_density, 0.25);
 }
 
 TEST(RunConfig, DefaultIniHoldsTheBuiltInDefaults)
@@ -101,9 +106,11 @@ TEST(RunConfig, DefaultIniDocumentsEveryKeyWithItsDefault)
 	const RunOptions d;
 	for (const auto& k : swba::apps::run_config_key_table())
 	{
-		const std::string line = "\n" + k.key + " =";
-		const auto at = text.find(line);
+		const auto section = text.find("\n[" + k.section + "]\n");
+		ASSERT_NE(section, std::string::npos) << k.section;
+		const auto at = text.find("\n" + k.key + " =", section);  // the key of this section (names repeat)
 		ASSERT_NE(at, std::string::npos) << k.key;
+		ASSERT_LT(at, text.find("\n[", section + 1)) << "[" << k.section << "] " << k.key << " not in its section";
 		// The comment just above the key states "(Default=<value>)".
 		const auto comment_start = text.rfind("\n[", at) == std::string::npos ? 0 : text.rfind("\n[", at);
 		const auto prev_key = text.rfind(" = ", at - 1);
@@ -152,6 +159,8 @@ TEST(RunConfig, BadValuesNameTheKey)
 			 {"[solver]\nlinear_solver = magic\n", "[solver] linear_solver:"},
 			 {"[window]\ngate_probability = 1\n", "[window] gate_probability: '1' must be in (0, 1)"},
 			 {"[window]\nrobust_loss = tukey\n", "[window] robust_loss: unknown robust loss 'tukey'"},
+			 {"[inertial]\nkeyframes = every\n", "[inertial] keyframes: unknown keyframe times 'every'"},
+			 {"[inertial]\nreintegrate_gyro = 0\n", "[inertial] reintegrate_gyro: '0' must be > 0"},
 		 })
 	{
 		const std::string msg = load_error(c.ini);
