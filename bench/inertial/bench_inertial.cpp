@@ -1,10 +1,10 @@
 // Cost of the inertial estimators on simulated logs: for each IMU rate, the filter's time per IMU reading
 // and the window's time per keyframe (update, marginalisation, covariance of the newest pose) for
 // W = 10, 20, 30, with the real-time factor (keyframe period / time per keyframe) and APE beside it.
+#include <swba/apps/inertial_simulate.h>
 #include <swba/estimators/inertial_window.h>
 #include <swba/problems/inertial_simulation.h>
 
-#include "simulated_input.h"
 
 #include <algorithm>
 #include <swba/core/timing.h>
@@ -14,7 +14,6 @@
 using namespace swba;
 using namespace swba::estimators;
 using namespace swba::problems;
-using swba::bench::input_of;
 
 namespace
 {
@@ -46,7 +45,7 @@ int main()
 		s.imu_rate = rate;
 		s.duration = 60;
 		const InertialDataset d = simulate_inertial(s);
-		const InertialInput in = input_of(d);
+		const InertialInput in = apps::simulated_inertial_input(d);
 		InertialWindowOptions o;
 		o.measurements.noise = d.noise;
 		const auto t0 = SteadyClock::now();

@@ -4,10 +4,10 @@
 // over all the data, APE translation rmse over the same keyframes. The window's lagged / batch ratio is
 // bounded below by the lag optimum's (doc/inertial.md, "Measured").
 //   swba_inertial_lag_bound [figure8|car] [consumer|tactical] [pose Hz] [odometry Hz] [W] [stride]
+#include <swba/apps/inertial_simulate.h>
 #include <swba/estimators/inertial_window.h>
 #include <swba/problems/inertial_simulation.h>
 
-#include "simulated_input.h"
 
 #include <cmath>
 #include <cstdio>
@@ -17,7 +17,6 @@
 using namespace swba;
 using namespace swba::estimators;
 using namespace swba::problems;
-using swba::bench::input_of;
 
 namespace
 {
@@ -46,7 +45,7 @@ int main(int argc, char** argv)
 	const int W = argc > 5 ? std::atoi(argv[5]) : 30, stride = argc > 6 ? std::atoi(argv[6]) : 20;
 	s.validate();
 	const InertialDataset d = simulate_inertial(s);
-	const InertialInput in = input_of(d);
+	const InertialInput in = apps::simulated_inertial_input(d);
 	InertialWindowOptions o;
 	o.measurements.noise = d.noise;
 	o.window_size = W;

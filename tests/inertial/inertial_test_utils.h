@@ -2,6 +2,7 @@
 // translation error of a trajectory against its truth.
 #pragma once
 
+#include <swba/apps/inertial_simulate.h>
 #include <swba/core/chi2.h>
 #include <swba/estimators/inertial_filter.h>
 #include <swba/problems/inertial_simulation.h>
@@ -16,15 +17,8 @@ namespace swba::test
 {
 inline Eigen::Vector3d position(const mrpt::poses::CPose3D& p) { return {p.x(), p.y(), p.z()}; }
 
-/** The simulated pose priors (label MAP) and odometry (label ODO) with the IMU readings. */
-inline estimators::InertialInput input_of(const problems::InertialDataset& d)
-{
-	estimators::InertialInput in;
-	in.imu = d.imu;
-	for (const auto& z : d.pose_priors) in.pose_priors.push_back({z.t, "MAP", z.pose, z.covariance});
-	for (const auto& z : d.odometry) in.odometry.push_back({z.t, "ODO", z.pose, z.covariance});
-	return in;
-}
+/** The estimators' input of a simulated data set. */
+inline constexpr auto input_of = &apps::simulated_inertial_input;
 
 /** The truth at time t (the truth is sampled at the IMU rate `rate`). */
 inline const problems::InertialTruth& truth_at(const problems::InertialDataset& d, double t, double rate)

@@ -113,4 +113,12 @@ SimulatedInertialRawlog simulate_inertial_rawlog(const InertialSimulateOptions& 
 		<< d.odometry.size() << " odometry poses -> " << out.rawlog << "\n";
 	return out;
 }
+estimators::InertialInput simulated_inertial_input(const problems::InertialDataset& d)
+{
+	estimators::InertialInput in;
+	in.imu = d.imu;
+	for (const auto& z : d.pose_priors) in.pose_priors.push_back({z.t, kSimulatedPosePriorLabel, z.pose, z.covariance});
+	for (const auto& z : d.odometry) in.odometry.push_back({z.t, kSimulatedOdometryLabel, z.pose, z.covariance});
+	return in;
+}
 }  // namespace swba::apps

@@ -3,6 +3,7 @@
  * odometry) with exact ground truth, from swba::problems::simulate_inertial. */
 #pragma once
 
+#include <swba/estimators/inertial_filter.h>
 #include <swba/problems/inertial_simulation.h>
 
 #include <iosfwd>
@@ -41,6 +42,10 @@ struct SimulatedInertialRawlog
 	/** <out>/<name>.ini: the [sensors] roles and the [imu] noise of the simulated grade. */
 	std::string ini;
 };
+
+/** The simulated data set as the estimators read it from the rawlog simulate_inertial_rawlog writes (the
+ * same readings and covariances, the labels above), without the file. */
+estimators::InertialInput simulated_inertial_input(const problems::InertialDataset& data);
 
 /** Simulates, writes the files and a line on `log`. Throws std::invalid_argument on invalid options,
  * std::runtime_error naming a file that cannot be written. */
