@@ -28,6 +28,30 @@ void MonoBASweepOptions::validate() const
 	if (repetitions < 1) throw std::invalid_argument("the number of repetitions must be ≥ 1");
 }
 
+namespace
+{
+using Row = MonoBASweepRow;
+/** The fields a row averages over the seeds: summed over them, then divided by their number. */
+constexpr double Row::*kAveraged[] = {&Row::iterations, &Row::final_cost, &Row::solve_time_s,
+									  &Row::pose_rmse_raw_m, &Row::pose_rmse_aligned_m, &Row::inverse_depth_rmse_raw,
+									  &Row::camera0_drift_m, &Row::camera0_drift_deg};
+
+/** One seed's figures in the averaged fields of a row. */
+Row sample_of(const MonoBAResult& r)
+{
+	Row s;
+	s.iterations = r.summary.iterations;
+	s.final_cost = r.summary.final_cost;
+	s.solve_time_s = r.solve_time_s;
+	s.pose_rmse_raw_m = r.errors.pose_rmse_raw_m;
+	s.pose_rmse_aligned_m = r.errors.pose_rmse_aligned_m;
+	s.inverse_depth_rmse_raw = r.errors.inverse_depth_rmse_raw;
+	s.camera0_drift_m = r.errors.camera0_drift_m;
+	s.camera0_drift_deg = r.errors.camera0_drift_deg;
+	return s;
+}
+}  // namespace
+
 std::vector<MonoBASweepRow> run_prior_weight_sweep(const problems::MonoBASceneOptions& scene_options, const MonoBAOptions& options,
 											 const MonoBASweepOptions& sweep)
 {
@@ -62,29 +86,14 @@ std::vector<MonoBASweepRow> run_prior_weight_sweep(const problems::MonoBASceneOp
 			o.prior_weight = configs[c].weight;
 			const MonoBAResult r = run_monoba(scene, o, sweep.repetitions);
 			MonoBASweepRow& row = rows[c];
-			row.iterations += r.summary.iterations;
-			row.final_cost += r.summary.final_cost;
-			row.solve_time_s += r.solve_time_s;
-			row.pose_rmse_raw_m += r.errors.pose_rmse_raw_m;
-			row.pose_rmse_aligned_m += r.errors.pose_rmse_aligned_m;
-			row.inverse_depth_rmse_raw += r.errors.inverse_depth_rmse_raw;
-			row.camera0_drift_m += r.errors.camera0_drift_m;
-			row.camera0_drift_deg += r.errors.camera0_drift_deg;
+			const Row sample = sample_of(r);
+			for (double Row::*f : kAveraged) row.*f += sample.*f;
 			if (r.summary.termination != TerminationType::Convergence) row.not_converged++;
 		}
 	}
 	const double inv = 1.0 / sweep.seeds;
 	for (auto& row : rows)
-	{
-		row.iterations *= inv;
-		row.final_cost *= inv;
-		row.solve_time_s *= inv;
-		row.pose_rmse_raw_m *= inv;
-		row.pose_rmse_aligned_m *= inv;
-		row.inverse_depth_rmse_raw *= inv;
-		row.camera0_drift_m *= inv;
-		row.camera0_drift_deg *= inv;
-	}
+		for (double Row::*f : kAveraged) row.*f *= inv;
 	return rows;
 }
 
