@@ -4,6 +4,8 @@
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
+#include <functional>
+#include <iostream>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -36,6 +38,36 @@ inline TCLAP::ValueArg<int> max_iterations_arg(TCLAP::CmdLine& cmd, int default_
 {
 	return TCLAP::ValueArg<int>("", flag, "maximum LM iterations (Default: " + std::to_string(default_value) + ")",
 								false, default_value, "K", cmd);
+}
+
+/** `-q/--quiet` of the solver commands: "do not print the per-iteration table". */
+inline TCLAP::SwitchArg quiet_arg(TCLAP::CmdLine& cmd)
+{
+	return TCLAP::SwitchArg("q", "quiet", "do not print the per-iteration table", cmd);
+}
+
+/** A subcommand over a command-line struct `Args` (its TCLAP arguments and `cmd`, their CmdLine):
+ * parses argv into a fresh Args (parse_command_line's exit code, when it gives one), then returns
+ * run(args). */
+template <class Args, class Run>
+std::function<int(int, char**)> parsed_command(Run run)
+{
+	return [run](int argc, char** argv) {
+		Args args;
+		if (auto rc = parse_command_line(args.cmd, argc, argv)) return *rc;
+		return run(args);
+	};
+}
+
+/** The subcommand that runs app(options_from(args), std::cout, std::cerr) and exits 0 (options_from:
+ * the function declared next to `Args` that makes the app's options, throwing UsageError). */
+template <class Args, class App>
+std::function<int(int, char**)> app_command(App app)
+{
+	return parsed_command<Args>([app](Args& args) {
+		app(options_from(args), std::cout, std::cerr);
+		return 0;
+	});
 }
 
 /** Thrown by commands for a bad command line (an option's value out of range, a missing or superfluous

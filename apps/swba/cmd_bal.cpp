@@ -37,7 +37,7 @@ struct BalCommandLine
 	TCLAP::ValueArg<std::string> ply_final{"", "ply-final", "write the solution as PLY (Default: not written)", false, "", "FILE", cmd};
 	TCLAP::ValueArg<std::string> write_problem{
 		"", "write-problem", "write the solution in the BAL format (Default: not written)", false, "", "OUT", cmd};
-	TCLAP::SwitchArg quiet{"q", "quiet", "do not print the per-iteration table", cmd};
+	TCLAP::SwitchArg quiet = swba::app::quiet_arg(cmd);
 };
 
 swba::apps::BalAppOptions options_from(BalCommandLine& a)
@@ -66,12 +66,11 @@ swba::apps::BalAppOptions options_from(BalCommandLine& a)
 	return o;
 }
 
-int run_bal(int argc, char** argv)
+int run_bal(BalCommandLine& args)
 {
-	BalCommandLine args;
-	if (auto rc = swba::app::parse_command_line(args.cmd, argc, argv)) return *rc;
 	const auto result = swba::apps::run_bal_app(options_from(args), std::cout, std::cerr);
 	return result.summary.is_solution_usable() ? 0 : 1;
 }
-SWBA_REGISTER_COMMAND("bal", "bundle adjustment of a BAL problem (Snavely cameras), PLY output", run_bal);
+SWBA_REGISTER_COMMAND("bal", "bundle adjustment of a BAL problem (Snavely cameras), PLY output",
+					  swba::app::parsed_command<BalCommandLine>(run_bal));
 }  // namespace

@@ -42,7 +42,7 @@ struct DirectbaCommandLine
 	TCLAP::ValueArg<std::string> out_dir{
 		"", "out", "write poses_initial.tum, poses_final.tum (world-from-camera) and points_final.ply here (Default: not written)", false, "",
 		"OUTDIR", cmd};
-	TCLAP::SwitchArg quiet{"q", "quiet", "do not print the per-iteration table", cmd};
+	TCLAP::SwitchArg quiet = swba::app::quiet_arg(cmd);
 };
 
 /** The typed options; bad values and a missing or superfluous DIR are usage errors. */
@@ -71,13 +71,12 @@ swba::apps::DirectBAAppOptions options_from(DirectbaCommandLine& a)
 	return o;
 }
 
-int run_directba(int argc, char** argv)
+int run_directba(DirectbaCommandLine& args)
 {
-	DirectbaCommandLine args;
-	if (auto rc = swba::app::parse_command_line(args.cmd, argc, argv)) return *rc;
 	const auto options = options_from(args);
 	const auto result = swba::apps::run_directba_app(options, std::cout, std::cerr);
 	return !options.synthetic || result.synthetic_pass ? 0 : 1;
 }
-SWBA_REGISTER_COMMAND("directba", "direct (photometric) bundle adjustment, 4x4 patches", run_directba);
+SWBA_REGISTER_COMMAND("directba", "direct (photometric) bundle adjustment, 4x4 patches",
+					  swba::app::parsed_command<DirectbaCommandLine>(run_directba));
 }  // namespace

@@ -117,12 +117,6 @@ swba::apps::MonoBAAppOptions options_from(MonobaCommandLine& a)
 	return o;
 }
 
-int run_monoba_cmd(int argc, char** argv)
-{
-	MonobaCommandLine args;
-	if (auto rc = swba::app::parse_command_line(args.cmd, argc, argv)) return *rc;
-	swba::apps::run_monoba_app(options_from(args), std::cout, std::cerr);
-	return 0;
-}
-SWBA_REGISTER_COMMAND("monoba", "monocular inverse-depth BA demo and gauge study (synthetic)", run_monoba_cmd);
+SWBA_REGISTER_COMMAND("monoba", "monocular inverse-depth BA demo and gauge study (synthetic)",
+					  swba::app::app_command<MonobaCommandLine>(swba::apps::run_monoba_app));
 }  // namespace

@@ -59,7 +59,7 @@ struct PgoCommandLine
 	TCLAP::ValueArg<int> threads = swba::app::threads_arg(cmd);
 	TCLAP::ValueArg<std::string> output{
 		"o", "output", "write the optimised graph here (Default: not written)", false, "", "OUT.g2o", cmd};
-	TCLAP::SwitchArg quiet{"q", "quiet", "do not print the per-iteration table", cmd};
+	TCLAP::SwitchArg quiet = swba::app::quiet_arg(cmd);
 };
 
 /** The typed options; the checks name the flags (bad values are usage errors). */
@@ -99,12 +99,6 @@ swba::apps::PgoAppOptions options_from(PgoCommandLine& a)
 	return o;
 }
 
-int run_pgo(int argc, char** argv)
-{
-	PgoCommandLine args;
-	if (auto rc = swba::app::parse_command_line(args.cmd, argc, argv)) return *rc;
-	swba::apps::run_pgo_app(options_from(args), std::cout, std::cerr);
-	return 0;
-}
-SWBA_REGISTER_COMMAND("pgo", "optimise a g2o pose graph (3D or 2D)", run_pgo);
+SWBA_REGISTER_COMMAND("pgo", "optimise a g2o pose graph (3D or 2D)",
+					  swba::app::app_command<PgoCommandLine>(swba::apps::run_pgo_app));
 }  // namespace

@@ -38,14 +38,7 @@ int run_simulate(int argc, char** argv)
 	o.out_dir = out.getValue();
 	o.name = name.getValue();
 	o.keep_declared_noise = keep.getValue();
-	try
-	{
-		o.validate();
-	}
-	catch (const std::invalid_argument& e)
-	{
-		throw UsageError(e.what());
-	}
+	validate_usage(o);
 	const apps::SimulatedRawlog r = apps::simulate_rawlog(o, std::cerr);
 	std::cout << r.rawlog << "\n";
 	return 0;

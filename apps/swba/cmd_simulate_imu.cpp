@@ -70,8 +70,7 @@ int run_simulate_imu(int argc, char** argv)
 	}
 	catch (const std::invalid_argument& e)
 	{
-		std::cerr << "swba simulate-imu: error: " << e.what() << " (see --help)\n";
-		return 2;
+		throw UsageError(e.what());
 	}
 	const apps::SimulatedInertialRawlog r = apps::simulate_inertial_rawlog(o, std::cerr);
 	std::cout << r.rawlog << "\n";

@@ -19,11 +19,7 @@ PeerResult solve_swba(const io::BalProblem& bal, const PeerSettings& s)
 	o.stop_at_cost = s.stop_at_cost;
 	const auto t0 = SteadyClock::now();
 	const Summary summary = solve(problem, o);
-	const double solve_time_s = seconds_since(t0);
-	PeerResult r;
-	r.solve_time_s = solve_time_s;
-	r.initial_cost = summary.initial_cost;
-	r.final_cost = summary.final_cost;
+	PeerResult r = peer_result(seconds_since(t0), summary);
 	r.iterations = summary.iterations;
 	r.termination = summary.message;
 	for (const auto& it : summary.iterations_log) r.log.push_back({it.iteration, it.cost, it.cumulative_time_s});

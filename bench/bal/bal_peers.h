@@ -48,6 +48,17 @@ struct PeerResult
 	std::vector<PeerIteration> log;
 };
 
+/** The time and the costs of a solve (swba's Summary and Ceres's Solver::Summary spell the costs alike). */
+template <class Summary>
+PeerResult peer_result(double solve_time_s, const Summary& summary)
+{
+	PeerResult r;
+	r.solve_time_s = solve_time_s;
+	r.initial_cost = summary.initial_cost;
+	r.final_cost = summary.final_cost;
+	return r;
+}
+
 PeerResult solve_swba(const io::BalProblem& bal, const PeerSettings& s);
 #ifdef SWBA_HAVE_CERES
 PeerResult solve_ceres(const io::BalProblem& bal, const PeerSettings& s);

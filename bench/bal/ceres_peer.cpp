@@ -65,11 +65,7 @@ PeerResult solve_ceres(const io::BalProblem& bal_in, const PeerSettings& s)
 	ceres::Solver::Summary summary;
 	const auto t0 = SteadyClock::now();
 	ceres::Solve(o, &problem, &summary);
-	const double solve_time_s = seconds_since(t0);
-	PeerResult r;
-	r.solve_time_s = solve_time_s;
-	r.initial_cost = summary.initial_cost;
-	r.final_cost = summary.final_cost;
+	PeerResult r = peer_result(seconds_since(t0), summary);
 	r.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
 	r.termination = ceres::TerminationTypeToString(summary.termination_type) + std::string(": ") + summary.message;
 	for (const auto& it : summary.iterations) r.log.push_back({it.iteration, it.cost, it.cumulative_time_in_seconds});

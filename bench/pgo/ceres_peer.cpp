@@ -164,11 +164,7 @@ Result run_ceres(const io::PoseGraph& input, const Settings& s, RotationError mo
 		const double solve = seconds_since(t0);
 
 		copy_solution(params, g);
-		if (rep == 0 || solve < res.solve_s)
-		{
-			res.setup_s = setup;
-			res.solve_s = solve;
-		}
+		res.keep_fastest(rep, setup, solve);
 		res.final_cost = problems::pose_graph_cost(g, model);
 		res.reported_cost = summary.final_cost;
 		res.iterations = static_cast<int>(summary.iterations.size()) - 1;  // iteration 0 is the start

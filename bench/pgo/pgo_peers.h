@@ -44,6 +44,16 @@ struct Result
 	double start_cost = -1;     // pose_graph_cost where the solver starts (after the initialisation)
 	std::string note;
 	io::PoseGraph solution;  // the solver's output (for re-evaluation under another model)
+
+	/** Keeps the times of repetition `rep` when its solve is the fastest so far (the best of the
+	 * repetitions is reported). */
+	void keep_fastest(int rep, double setup, double solve, double init = 0)
+	{
+		if (rep > 0 && solve >= solve_s) return;
+		setup_s = setup;
+		solve_s = solve;
+		init_s = init;
+	}
 };
 
 /** swba as `swba pgo` runs it (swba/apps/pgo.h), from the initialisation `init`. */

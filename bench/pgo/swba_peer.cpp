@@ -31,12 +31,7 @@ Result run_swba(const io::PoseGraph& input, const Settings& s, RotationError mod
 		t0 = SteadyClock::now();
 		const auto summary = apps::solve_pgo(pp, g, o);
 		const double solve = init_s + seconds_since(t0);
-		if (rep == 0 || solve < r.solve_s)
-		{
-			r.setup_s = setup;
-			r.solve_s = solve;
-			r.init_s = init_s;
-		}
+		r.keep_fastest(rep, setup, solve, init_s);
 		r.start_cost = start_cost;
 		r.final_cost = problems::pose_graph_cost(g, model);
 		r.reported_cost = summary.final_cost;

@@ -7,7 +7,9 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
+#include <ostream>
 #include <string>
 
 namespace swba::apps::detail
@@ -25,6 +27,16 @@ inline std::string fixed(double v, int decimals)
 	char buf[64];
 	std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
 	return buf;
+}
+/** Writes printf's `format` of the arguments to `os` (a report line: at most 511 characters). */
+[[gnu::format(printf, 2, 3)]] inline void print_to(std::ostream& os, const char* format, ...)
+{
+	char buf[512];
+	va_list args;
+	va_start(args, format);
+	std::vsnprintf(buf, sizeof(buf), format, args);
+	va_end(args);
+	os << buf;
 }
 /** `s` padded with spaces to width `w`, on the right / on the left (table columns). */
 inline std::string pad_right(const std::string& s, std::size_t w) { return s.size() >= w ? s : s + std::string(w - s.size(), ' '); }

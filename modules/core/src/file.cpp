@@ -91,4 +91,12 @@ void write_text_file_atomically(const std::string& path, const std::string& text
 {
 	write_file_atomically(path, [&](std::ostream& f) { f << text; });
 }
+
+void create_directory_or_throw(const std::string& dir, const std::string& what)
+{
+	std::error_code ec;
+	std::filesystem::create_directories(dir, ec);
+	if (ec || !std::filesystem::is_directory(dir))
+		throw std::runtime_error("cannot create " + what + " '" + dir + "'" + (ec ? ": " + ec.message() : ""));
+}
 }  // namespace swba

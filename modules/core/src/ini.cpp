@@ -9,37 +9,37 @@
 
 namespace swba::ini
 {
-double parse_double(const std::string& v)
+namespace
+{
+/** The whole of `v` read by `read` (std::stod or std::stoll's signature), else "'v' is not <what>". */
+template <class Read>
+auto read_whole(const std::string& v, Read read, const char* what)
 {
 	std::size_t pos = 0;
-	double d = 0;
+	decltype(read(v, &pos)) x{};
 	try
 	{
-		d = std::stod(v, &pos);
+		x = read(v, &pos);
 	}
 	catch (const std::exception&)
 	{
-		throw std::invalid_argument("'" + v + "' is not a number");
+		pos = std::string::npos;
 	}
-	if (pos != v.size()) throw std::invalid_argument("'" + v + "' is not a number");
+	if (pos != v.size()) throw std::invalid_argument("'" + v + "' is not " + what);
+	return x;
+}
+}  // namespace
+
+double parse_double(const std::string& v)
+{
+	const double d = read_whole(v, [](const std::string& s, std::size_t* pos) { return std::stod(s, pos); }, "a number");
 	if (!std::isfinite(d)) throw std::invalid_argument("'" + v + "' is not finite");
 	return d;
 }
 
 long long parse_integer(const std::string& v)
 {
-	std::size_t pos = 0;
-	long long i = 0;
-	try
-	{
-		i = std::stoll(v, &pos);
-	}
-	catch (const std::exception&)
-	{
-		throw std::invalid_argument("'" + v + "' is not an integer");
-	}
-	if (pos != v.size()) throw std::invalid_argument("'" + v + "' is not an integer");
-	return i;
+	return read_whole(v, [](const std::string& s, std::size_t* pos) { return std::stoll(s, pos); }, "an integer");
 }
 
 int parse_int_min(const std::string& v, long long min_value)

@@ -40,6 +40,14 @@ void* mrpt::aligned_malloc(size_t size, size_t alignment)
 
 namespace swba
 {
+std::uint64_t scaled_memory_budget(std::uint64_t data_bytes, std::uint64_t per_byte)
+{
+	constexpr std::uint64_t kBase = std::uint64_t(256) << 20;
+	const std::uint64_t max = ~std::uint64_t(0);
+	if (data_bytes > (max - kBase) / per_byte) return max - 1;
+	return kBase + per_byte * data_bytes;
+}
+
 namespace
 {
 /** The process's address-space size in bytes (VmSize), 0 when unknown. */

@@ -111,8 +111,8 @@ IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& 
 			 o.relinearized_poses = k;
 		 },
 		 [](const O& o) { return std::to_string(o.relinearized_poses); }},
-		{section, "gate", "bool", "chi-square gate of the bearing-range readings (doc/outliers.md)",
-		 [](const S& v, O& o) { o.gate_readings = parse_bool(v); }, [](const O& o) { return format_bool(o.gate_readings); }},
+		bool_key<O>(section, "gate", "chi-square gate of the bearing-range readings (doc/outliers.md)",
+					&O::gate_readings),
 		number_key<O>(section, "gate_probability", "probability in (0, 1)",
 					  "share of correct readings the gate passes (chi-square, 3 DoF in 6D, 2 in 2D)", &O::gate_probability,
 					  parse_probability),
@@ -121,16 +121,16 @@ IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& 
 		number_key<O>(section, "robust_probability", "probability in (0, 1)",
 					  "robust-loss scale: sqrt of the chi-square quantile at this probability (3 DoF in 6D, 2 in 2D)",
 					  &O::robust_probability, parse_probability),
-		{section, "covariances", "bool", "marginal covariances of every reported pose and landmark (.cov files)",
-		 [](const S& v, O& o) { o.covariances = parse_bool(v); }, [](const O& o) { return format_bool(o.covariances); }},
+		bool_key<O>(section, "covariances", "marginal covariances of every reported pose and landmark (.cov files)",
+					&O::covariances),
 		enum_key<O, DataAssociation>(section, "association",
 									 "data association of the readings: auto (the readings' IDs if they have "
 									 "them, else jcbb), ids, nn or jcbb (doc/association.md)",
 									 "data association", [](auto& o) -> auto& { return o.association; }),
-		{section, "reassociate", "bool",
-		 "data association: move a window reading that no longer fits its landmark to the one it fits "
-		 "(doc/association.md)",
-		 [](const S& v, O& o) { o.reassociate = parse_bool(v); }, [](const O& o) { return format_bool(o.reassociate); }},
+		bool_key<O>(section, "reassociate",
+					"data association: move a window reading that no longer fits its landmark to the one it fits "
+					"(doc/association.md)",
+					&O::reassociate),
 	};
 }
 }  // namespace swba::estimators

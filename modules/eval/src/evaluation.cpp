@@ -24,26 +24,29 @@ void check_inputs(const Trajectory& ref, const Trajectory& est)
 	if (est.empty()) throw std::invalid_argument("the estimated trajectory has no poses");
 }
 
+/** The part APE and RPE share: the poses associated and aligned, the relation and its unit (`Options`:
+ * ApeOptions or RpeOptions). */
+template <class Options>
 MetricResult associate_and_align(const char* metric, const Trajectory& ref, const Trajectory& est,
-								 const AssociationOptions& association, const AlignmentOptions& alignment)
+								 const Options& options)
 {
 	check_inputs(ref, est);
 	MetricResult r;
 	r.metric = metric;
 	r.ref_input_poses = ref.size();
 	r.est_input_poses = est.size();
-	associate_trajectories(ref, est, association, r.ref, r.est);
-	r.alignment_options = alignment;
-	r.alignment = align_trajectory(r.est, r.ref, alignment);
+	associate_trajectories(ref, est, options.association, r.ref, r.est);
+	r.alignment_options = options.alignment;
+	r.alignment = align_trajectory(r.est, r.ref, options.alignment);
+	r.relation = options.relation;
+	r.unit = pose_relation_unit(options.relation);
 	return r;
 }
 }  // namespace
 
 MetricResult compute_ape(const Trajectory& ref, const Trajectory& est, const ApeOptions& options)
 {
-	MetricResult r = associate_and_align("APE", ref, est, options.association, options.alignment);
-	r.relation = options.relation;
-	r.unit = pose_relation_unit(options.relation);
+	MetricResult r = associate_and_align("APE", ref, est, options);
 	r.title = ape_metric_title(options.relation) + "\n" + alignment_title(options.alignment);
 	r.errors = ape_errors(r.ref, r.est, options.relation);
 	r.pose_ids.resize(r.errors.size());
@@ -55,9 +58,7 @@ MetricResult compute_ape(const Trajectory& ref, const Trajectory& est, const Ape
 
 MetricResult compute_rpe(const Trajectory& ref, const Trajectory& est, const RpeOptions& options)
 {
-	MetricResult r = associate_and_align("RPE", ref, est, options.association, options.alignment);
-	r.relation = options.relation;
-	r.unit = pose_relation_unit(options.relation);
+	MetricResult r = associate_and_align("RPE", ref, est, options);
 	r.title = rpe_metric_title(options.relation, options.delta, options.all_pairs) + "\n" +
 			  alignment_title(options.alignment);
 	const auto pairs = rpe_pairs(r.est.size(), options.delta, options.all_pairs);

@@ -3,6 +3,8 @@
 #include <swba/core/file.h>
 #include <swba/eval/nees.h>
 
+#include "data_lines.h"
+
 #include <mrpt/poses/Lie/SO.h>
 
 #include <Eigen/Cholesky>
@@ -21,12 +23,6 @@ namespace swba::eval
 namespace
 {
 constexpr std::size_t kColumns = 1 + 6 + 21;
-
-bool is_comment_or_blank(const std::string& line)
-{
-	const auto b = line.find_first_not_of(" \t\r");
-	return b == std::string::npos || line[b] == '#';
-}
 
 /** The 28 numbers of a row; throws naming the column. */
 std::vector<double> parse_numbers(const std::string& line, const std::string& source, std::size_t line_no)
@@ -80,12 +76,7 @@ Eigen::Vector3d translation(const mrpt::poses::CPose3D& p) { return Eigen::Vecto
 std::vector<CovarianceRow> read_covariance_file(std::istream& in, const std::string& source)
 {
 	std::vector<CovarianceRow> rows;
-	std::string line;
-	std::size_t line_no = 0;
-	while (std::getline(in, line))
-	{
-		line_no++;
-		if (is_comment_or_blank(line)) continue;
+	detail::for_each_data_line(in, source, '#', [&](const std::string& line, std::size_t line_no) {
 		const auto v = parse_numbers(line, source, line_no);
 		CovarianceRow r;
 		r.stamp = v[0];
@@ -98,8 +89,7 @@ std::vector<CovarianceRow> read_covariance_file(std::istream& in, const std::str
 		for (int i = 0; i < 6; i++)
 			if (r.pose(i, i) < 0) throw TrajectoryFileError(source, line_no, "negative pose variance");
 		rows.push_back(r);
-	}
-	if (in.bad()) throw TrajectoryFileError(source, 0, "read error");
+	});
 	return rows;
 }
 

@@ -138,10 +138,7 @@ std::vector<std::string> save_results(const MetricResult& r, const std::string& 
 	std::string prefix = prefix_in;
 	if (prefix.empty())
 		for (char c : r.metric) prefix += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-	std::error_code ec;
-	std::filesystem::create_directories(dir, ec);
-	if (ec || !std::filesystem::is_directory(dir))
-		throw std::runtime_error("cannot create results directory '" + dir + "'" + (ec ? ": " + ec.message() : ""));
+	create_directory_or_throw(dir, "results directory");
 	const auto path = [&](const std::string& name) { return (std::filesystem::path(dir) / (prefix + name)).string(); };
 	std::vector<std::string> written;
 

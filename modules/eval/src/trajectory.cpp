@@ -1,6 +1,7 @@
 // Trajectories and their text formats (TUM, MRPT ground-truth robot paths).
 #include "swba/eval/trajectory.h"
 #include "swba/eval/text_format.h"
+#include "data_lines.h"
 #include <swba/core/file.h>
 
 #include <stdexcept>
@@ -52,17 +53,6 @@ std::vector<std::string> split_tokens(const std::string& line)
 	return tokens;
 }
 
-/** True if the line holds no data: blank, or its first non-blank character is `comment`. */
-bool is_comment_or_blank(const std::string& line, char comment)
-{
-	for (char c : line)
-	{
-		if (c == ' ' || c == '\t' || c == '\r' || c == '\n') continue;
-		return c == comment;
-	}
-	return true;
-}
-
 /** Parses one row of exactly `names.size()` finite numbers or throws with file:line. */
 std::vector<double> parse_row(const std::string& line, const std::vector<const char*>& names,
 							  const std::string& source, std::size_t line_no, const char* format)
@@ -110,12 +100,8 @@ Trajectory read_tum(std::istream& in, const std::string& source, const TumReadOp
 {
 	static const std::vector<const char*> names = {"t", "x", "y", "z", "qx", "qy", "qz", "qw"};
 	Trajectory traj;
-	std::string line;
-	std::size_t line_no = 0, prev_line = 0;
-	while (std::getline(in, line))
-	{
-		line_no++;
-		if (is_comment_or_blank(line, '#')) continue;
+	std::size_t prev_line = 0;
+	detail::for_each_data_line(in, source, '#', [&](const std::string& line, std::size_t line_no) {
 		const auto v = parse_row(line, names, source, line_no, "t x y z qx qy qz qw");
 		if (!traj.empty() && v[0] < traj.stamps.back())
 			throw TrajectoryFileError(source, line_no,
@@ -132,8 +118,7 @@ Trajectory read_tum(std::istream& in, const std::string& source, const TumReadOp
 		const mrpt::math::CQuaternionDouble q(qw / norm, qx / norm, qy / norm, qz / norm);
 		traj.push_back(v[0], mrpt::poses::CPose3D(q, v[1], v[2], v[3]));
 		prev_line = line_no;
-	}
-	if (in.bad()) throw TrajectoryFileError(source, 0, "read error");
+	});
 	return traj;
 }
 
@@ -170,16 +155,10 @@ Trajectory read_mrpt_ground_truth(std::istream& in, const std::string& source)
 {
 	static const std::vector<const char*> names = {"x", "y", "z", "yaw", "pitch", "roll"};
 	Trajectory traj;
-	std::string line;
-	std::size_t line_no = 0;
-	while (std::getline(in, line))
-	{
-		line_no++;
-		if (is_comment_or_blank(line, '%')) continue;
+	detail::for_each_data_line(in, source, '%', [&](const std::string& line, std::size_t line_no) {
 		const auto v = parse_row(line, names, source, line_no, "x y z yaw pitch roll");
 		traj.push_back(static_cast<double>(traj.size()), mrpt::poses::CPose3D(v[0], v[1], v[2], v[3], v[4], v[5]));
-	}
-	if (in.bad()) throw TrajectoryFileError(source, 0, "read error");
+	});
 	return traj;
 }
 

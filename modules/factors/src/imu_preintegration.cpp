@@ -22,15 +22,15 @@ IniKeys<ImuNoise> ImuNoise::ini_keys(const std::string& section)
 {
 	using O = ImuNoise;
 	using namespace ini;
+	// The four densities, each > 0 as validate() requires.
+	const auto density = [&section](const char* key, const char* unit, const char* meaning, double O::*field) {
+		return number_key<O>(section, key, unit, meaning, field, parse_positive);
+	};
 	return {
-		number_key<O>(section, "accel_noise_density", "m/s^2/sqrt(Hz)", "accelerometer white noise density",
-					  &O::accel_noise_density, parse_positive),
-		number_key<O>(section, "gyro_noise_density", "rad/s/sqrt(Hz)", "gyroscope white noise density",
-					  &O::gyro_noise_density, parse_positive),
-		number_key<O>(section, "accel_random_walk", "m/s^3/sqrt(Hz)", "accelerometer bias random walk",
-					  &O::accel_random_walk, parse_positive),
-		number_key<O>(section, "gyro_random_walk", "rad/s^2/sqrt(Hz)", "gyroscope bias random walk",
-					  &O::gyro_random_walk, parse_positive),
+		density("accel_noise_density", "m/s^2/sqrt(Hz)", "accelerometer white noise density", &O::accel_noise_density),
+		density("gyro_noise_density", "rad/s/sqrt(Hz)", "gyroscope white noise density", &O::gyro_noise_density),
+		density("accel_random_walk", "m/s^3/sqrt(Hz)", "accelerometer bias random walk", &O::accel_random_walk),
+		density("gyro_random_walk", "rad/s^2/sqrt(Hz)", "gyroscope bias random walk", &O::gyro_random_walk),
 		{section, "gravity_z", "m/s^2", "gravity along the world z axis (negative: z up)",
 		 [](const std::string& v, O& o) { o.gravity = Eigen::Vector3d(0, 0, parse_double(v)); },
 		 [](const O& o) { return format_double(o.gravity.z()); }},

@@ -56,6 +56,14 @@ bool valid_inverse_depth(const double* lambda)
 	return std::isfinite(lambda[0]) && std::isfinite(lambda[1]) && std::isfinite(lambda[2]) && lambda[2] > 0;
 }
 
+/** l_a of a valid inverse depth λ (with ∂l_a/∂λ when asked); false for an invalid one (the factor fails). */
+bool inverse_depth_point(const double* lambda, Eigen::Vector3d& la, Eigen::Matrix3d* dla)
+{
+	if (!valid_inverse_depth(lambda)) return false;
+	la = sensor_point_and_jacobian(lambda, dla);
+	return true;
+}
+
 /** An angle residual wrapped into (−π, π] as fmod(a − π, 2π) + π. Unlike wrap_to_pi (core/lie.h) this
  * rounds through ±π, so it can change the low bits of small residuals; it is kept so that the
  * estimates of the range-bearing estimators stay bit for bit what they have been. */
@@ -73,6 +81,16 @@ void write_residual(const Eigen::Vector3d& h, const RangeBearingMeasurement& z, 
 	residual[0] = h[0] - z.range;
 	residual[1] = wrap_angle_residual(h[1] - z.yaw);
 	residual[2] = wrap_angle_residual(h[2] - z.pitch);
+}
+
+/** The residual of the sensor-frame point l against z, with ∂h/∂l when asked; false where the model
+ * is undefined (range_bearing_model). */
+bool model_residual(const Eigen::Vector3d& l, const RangeBearingMeasurement& z, double* residual, Eigen::Matrix3d* H)
+{
+	Eigen::Vector3d h;
+	if (!range_bearing_model(l, h, H)) return false;
+	write_residual(h, z, residual);
+	return true;
 }
 
 /** ∂h/∂δT (row-major 3×6) for the observing pose T: ∂h/∂l·[−R_sᵀ, R_sᵀ[q]×], with HRsT = ∂h/∂l·R_sᵀ
@@ -131,11 +149,9 @@ bool RangeBearingXyzFactor::evaluate(const double* const* x, double* residual, d
 	const Eigen::Map<const Eigen::Vector3d> p(x[1]);
 	const Eigen::Vector3d q = R.transpose() * (p - T.col(3));  // landmark in the robot frame
 	const Eigen::Vector3d l = Rs_.transpose() * (q - ts_);		// ... in the sensor frame
-	Eigen::Vector3d h;
-	Eigen::Matrix3d H;
 	const bool want_jacobians = jacobians && (jacobians[0] || jacobians[1]);
-	if (!range_bearing_model(l, h, want_jacobians ? &H : nullptr)) return false;
-	write_residual(h, z_, residual);
+	Eigen::Matrix3d H;
+	if (!model_residual(l, z_, residual, want_jacobians ? &H : nullptr)) return false;
 	if (!want_jacobians) return true;
 	const Eigen::Matrix3d HRsT = H * Rs_.transpose();
 	if (jacobians[0]) write_observer_jacobian(HRsT, q, jacobians[0]);
@@ -172,22 +188,18 @@ RangeBearingInverseDepthFactor::RangeBearingInverseDepthFactor(
 bool RangeBearingInverseDepthFactor::evaluate(const double* const* x, double* residual,
 											  double* const* jacobians) const
 {
-	const double* lambda = x[2];
-	if (!valid_inverse_depth(lambda)) return false;
+	const bool want_jacobians = jacobians && (jacobians[0] || jacobians[1] || jacobians[2]);
+	Eigen::Vector3d la;
+	Eigen::Matrix3d dla, H;
+	if (!inverse_depth_point(x[2], la, want_jacobians ? &dla : nullptr)) return false;
 	const auto Ta = se3_view(x[0]);
 	const auto To = se3_view(x[1]);
 	const Eigen::Matrix3d Ra = Ta.leftCols<3>(), Ro = To.leftCols<3>();
-	const bool want_jacobians = jacobians && (jacobians[0] || jacobians[1] || jacobians[2]);
-	Eigen::Matrix3d dla;
-	const Eigen::Vector3d la = sensor_point_and_jacobian(lambda, want_jacobians ? &dla : nullptr);
 	const Eigen::Vector3d sa = Rsa_ * la + tsa_;				// anchor robot frame
 	const Eigen::Vector3d p = Ra * sa + Ta.col(3);				// world
 	const Eigen::Vector3d q = Ro.transpose() * (p - To.col(3));	// observing robot frame
 	const Eigen::Vector3d l = Rs_.transpose() * (q - ts_);		// observing sensor frame
-	Eigen::Vector3d h;
-	Eigen::Matrix3d H;
-	if (!range_bearing_model(l, h, want_jacobians ? &H : nullptr)) return false;
-	write_residual(h, z_, residual);
+	if (!model_residual(l, z_, residual, want_jacobians ? &H : nullptr)) return false;
 	if (!want_jacobians) return true;
 	const Eigen::Matrix3d HRsT = H * Rs_.transpose();
 	const Eigen::Matrix3d H_dp = HRsT * Ro.transpose() * Ra;  // ∂h/∂(anchor-robot-frame point)
@@ -216,15 +228,11 @@ RangeBearingInverseDepthAnchorFactor::RangeBearingInverseDepthAnchorFactor(const
 bool RangeBearingInverseDepthAnchorFactor::evaluate(const double* const* x, double* residual,
 													double* const* jacobians) const
 {
-	const double* lambda = x[0];
-	if (!valid_inverse_depth(lambda)) return false;
 	const bool want_jacobians = jacobians && jacobians[0];
-	Eigen::Matrix3d dla;
-	const Eigen::Vector3d la = sensor_point_and_jacobian(lambda, want_jacobians ? &dla : nullptr);
-	Eigen::Vector3d h;
-	Eigen::Matrix3d H;
-	if (!range_bearing_model(la, h, want_jacobians ? &H : nullptr)) return false;
-	write_residual(h, z_, residual);
+	Eigen::Vector3d la;
+	Eigen::Matrix3d dla, H;
+	if (!inverse_depth_point(x[0], la, want_jacobians ? &dla : nullptr)) return false;
+	if (!model_residual(la, z_, residual, want_jacobians ? &H : nullptr)) return false;
 	if (want_jacobians)
 	{
 		Eigen::Map<Matrix33RowMajor> J(jacobians[0]);

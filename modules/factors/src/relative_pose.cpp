@@ -20,6 +20,17 @@ Eigen::Quaterniond canonical_quaternion(const Mat33& E)
 	return q;
 }
 
+/** The row-major 6×6 Jacobian [A 0; 0 B]: translation rows on the position, rotation rows on the
+ * rotation, no cross terms. */
+void write_block_diagonal(const Mat33& A, const Mat33& B, double* jacobian)
+{
+	Eigen::Map<Mat66> J(jacobian);
+	J.topLeftCorner<3, 3>() = A;
+	J.topRightCorner<3, 3>().setZero();
+	J.bottomLeftCorner<3, 3>().setZero();
+	J.bottomRightCorner<3, 3>() = B;
+}
+
 /** ∂ 2·vec(q(E·Exp(ω))) / ∂ω at ω = 0, for q(E) = (w, v): w·I + [v]×. */
 Mat33 d_twice_vec_d_right_rotation(const Eigen::Quaterniond& q)
 {
@@ -66,14 +77,7 @@ bool RelativePoseFactor::evaluate(const double* const* x, double* residual, doub
 			J.bottomLeftCorner<3, 3>().setZero();
 			J.bottomRightCorner<3, 3>() = d_rot_a;
 		}
-		if (jacobians[1])
-		{
-			Eigen::Map<Mat66> J(jacobians[1]);
-			J.topLeftCorner<3, 3>() = Rab_est;
-			J.topRightCorner<3, 3>().setZero();
-			J.bottomLeftCorner<3, 3>().setZero();
-			J.bottomRightCorner<3, 3>() = d_rot_b;
-		}
+		if (jacobians[1]) write_block_diagonal(Rab_est, d_rot_b, jacobians[1]);
 	}
 	return true;
 }
@@ -93,14 +97,7 @@ bool PosePriorQuatFactor::evaluate(const double* const* x, double* residual, dou
 	Eigen::Map<Eigen::Matrix<double, 6, 1>> r(residual);
 	r.head<3>() = R0_T_ * (T.col(3) - t0_);
 	r.tail<3>() = 2.0 * q_err.vec();
-	if (jacobians && jacobians[0])
-	{
-		Eigen::Map<Mat66> J(jacobians[0]);
-		J.topLeftCorner<3, 3>() = R0T_R;
-		J.topRightCorner<3, 3>().setZero();
-		J.bottomLeftCorner<3, 3>().setZero();
-		J.bottomRightCorner<3, 3>() = d_twice_vec_d_right_rotation(q_err);
-	}
+	if (jacobians && jacobians[0]) write_block_diagonal(R0T_R, d_twice_vec_d_right_rotation(q_err), jacobians[0]);
 	return true;
 }
 

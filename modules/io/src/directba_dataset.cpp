@@ -91,13 +91,7 @@ void check_png_declared_size(const std::string& path, std::uint64_t budget)
 }
 }  // namespace
 
-std::uint64_t image_memory_budget(std::uint64_t file_bytes)
-{
-	constexpr std::uint64_t kBase = std::uint64_t(256) << 20;
-	constexpr std::uint64_t kPerByte = 64;
-	if (file_bytes > (~std::uint64_t(0) - kBase) / kPerByte) return ~std::uint64_t(0) - 1;
-	return kBase + kPerByte * file_bytes;
-}
+std::uint64_t image_memory_budget(std::uint64_t file_bytes) { return scaled_memory_budget(file_bytes, 64); }
 
 PinholeIntrinsics directba_dataset_intrinsics() { return {277.34, 291.402, 312.234, 239.777}; }
 

@@ -43,25 +43,27 @@ struct LineContext
 			fail("expected " + std::to_string(n) + " fields (" + layout + "), found " +
 				 std::to_string(tok.size() - 1));
 	}
-	double number(const Tokens& tok, size_t i) const
+	/** Field i read whole by `read` (std::strtod or std::strtoll's signature), in range and finite (as
+	 * a double: always, for an integer); otherwise fails "field i ('text') is not <what>". */
+	template <class Read>
+	auto whole_field(const Tokens& tok, size_t i, Read read, const char* what) const
 	{
 		const char* s = tok[i].c_str();
 		char* end = nullptr;
 		errno = 0;
-		const double v = std::strtod(s, &end);
-		if (end == s || *end != '\0' || errno == ERANGE || !std::isfinite(v))
-			fail("field " + std::to_string(i) + " ('" + tok[i] + "') is not a finite number");
+		const auto v = read(s, &end);
+		if (end == s || *end != '\0' || errno == ERANGE || !std::isfinite(static_cast<double>(v)))
+			fail("field " + std::to_string(i) + " ('" + tok[i] + "') is not " + what);
 		return v;
+	}
+	double number(const Tokens& tok, size_t i) const
+	{
+		return whole_field(tok, i, [](const char* s, char** end) { return std::strtod(s, end); }, "a finite number");
 	}
 	G2oId id(const Tokens& tok, size_t i) const
 	{
-		const char* s = tok[i].c_str();
-		char* end = nullptr;
-		errno = 0;
-		const long long v = std::strtoll(s, &end, 10);
-		if (end == s || *end != '\0' || errno == ERANGE)
-			fail("field " + std::to_string(i) + " ('" + tok[i] + "') is not an integer vertex id");
-		return static_cast<G2oId>(v);
+		const auto read = [](const char* s, char** end) { return std::strtoll(s, end, 10); };
+		return static_cast<G2oId>(whole_field(tok, i, read, "an integer vertex id"));
 	}
 	/** The vertex ids of an edge (fields 1 and 2, distinct) and its source line. */
 	template <typename Edge>

@@ -424,14 +424,7 @@ Rawlog Reader::run()
 }
 }  // namespace
 
-std::uint64_t auto_memory_budget(std::uint64_t data_bytes)
-{
-	constexpr std::uint64_t kBase = std::uint64_t(256) << 20;
-	constexpr std::uint64_t kPerByte = 16;
-	const std::uint64_t max = ~std::uint64_t(0);
-	if (data_bytes > (max - kBase) / kPerByte) return max - 1;
-	return kBase + kPerByte * data_bytes;
-}
+std::uint64_t auto_memory_budget(std::uint64_t data_bytes) { return scaled_memory_budget(data_bytes, 16); }
 
 RawlogStep RawlogStepConverter::convert(const CActionCollection::Ptr& acts, const CSensoryFrame::Ptr& sf,
 										const std::string& at, const std::function<void(const std::string&)>& warn)

@@ -18,10 +18,33 @@ int BlockPattern::dim() const { return offsets().back(); }
 
 namespace
 {
-class DenseBlockCholesky final : public BlockCholesky
+/** What both back ends keep: the pattern and the block offsets (offsets_.back() = dimension). */
+class PatternedCholesky : public BlockCholesky
+{
+   protected:
+	explicit PatternedCholesky(const BlockPattern& p) : pattern_(p), offsets_(p.offsets()) {}
+	BlockPattern pattern_;
+	std::vector<int> offsets_;
+};
+
+/** Calls f(R, C) for each entry R <= C of the pattern's upper triangle, block by block and row by row
+ * within a block: the order factorize() reads the blocks' entries in. */
+template <class F>
+void for_each_upper_entry(const BlockPattern& p, const std::vector<int>& offsets, F f)
+{
+	for (const auto& [i, j] : p.upper_blocks)
+		for (int r = 0; r < p.block_sizes[i]; r++)
+			for (int c = 0; c < p.block_sizes[j]; c++)
+			{
+				const int R = offsets[i] + r, C = offsets[j] + c;
+				if (R <= C) f(R, C);
+			}
+}
+
+class DenseBlockCholesky final : public PatternedCholesky
 {
    public:
-	explicit DenseBlockCholesky(const BlockPattern& p) : pattern_(p), offsets_(p.offsets())
+	explicit DenseBlockCholesky(const BlockPattern& p) : PatternedCholesky(p)
 	{
 		A_.setZero(offsets_.back(), offsets_.back());
 	}
@@ -51,42 +74,29 @@ class DenseBlockCholesky final : public BlockCholesky
 	bool is_sparse() const override { return false; }
 
    private:
-	BlockPattern pattern_;
-	std::vector<int> offsets_;
 	Eigen::MatrixXd A_;
 	Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt_;
 };
 
-class SparseBlockCholesky final : public BlockCholesky
+class SparseBlockCholesky final : public PatternedCholesky
 {
    public:
-	explicit SparseBlockCholesky(const BlockPattern& p) : pattern_(p), offsets_(p.offsets())
+	explicit SparseBlockCholesky(const BlockPattern& p) : PatternedCholesky(p)
 	{
 		const int n = offsets_.back();
 		// Upper-triangular CSC pattern; remember where each block entry lands in valuePtr().
 		std::vector<Eigen::Triplet<double>> trip;
-		for (const auto& [i, j] : pattern_.upper_blocks)
-			for (int r = 0; r < pattern_.block_sizes[i]; r++)
-				for (int c = 0; c < pattern_.block_sizes[j]; c++)
-				{
-					const int R = offsets_[i] + r, C = offsets_[j] + c;
-					if (R <= C) trip.emplace_back(R, C, 1.0);
-				}
+		for_each_upper_entry(pattern_, offsets_, [&](int R, int C) { trip.emplace_back(R, C, 1.0); });
 		A_.resize(n, n);
 		A_.setFromTriplets(trip.begin(), trip.end());
 		A_.makeCompressed();
 		value_index_.reserve(trip.size());
-		for (const auto& [i, j] : pattern_.upper_blocks)
-			for (int r = 0; r < pattern_.block_sizes[i]; r++)
-				for (int c = 0; c < pattern_.block_sizes[j]; c++)
-				{
-					const int R = offsets_[i] + r, C = offsets_[j] + c;
-					if (R > C) continue;
-					const int* begin = A_.innerIndexPtr() + A_.outerIndexPtr()[C];
-					const int* end = A_.innerIndexPtr() + A_.outerIndexPtr()[C + 1];
-					const int* it = std::lower_bound(begin, end, R);
-					value_index_.push_back(static_cast<int>(it - A_.innerIndexPtr()));
-				}
+		for_each_upper_entry(pattern_, offsets_, [&](int R, int C) {
+			const int* begin = A_.innerIndexPtr() + A_.outerIndexPtr()[C];
+			const int* end = A_.innerIndexPtr() + A_.outerIndexPtr()[C + 1];
+			const int* it = std::lower_bound(begin, end, R);
+			value_index_.push_back(static_cast<int>(it - A_.innerIndexPtr()));
+		});
 		solver_.analyzePattern(A_);
 		if (solver_.info() != Eigen::Success)
 			throw std::runtime_error("CHOLMOD: symbolic analysis failed");
@@ -125,8 +135,6 @@ class SparseBlockCholesky final : public BlockCholesky
 	bool is_sparse() const override { return true; }
 
    private:
-	BlockPattern pattern_;
-	std::vector<int> offsets_;
 	Eigen::SparseMatrix<double> A_;
 	std::vector<int> value_index_;
 	mutable Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> solver_;

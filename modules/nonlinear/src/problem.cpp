@@ -5,26 +5,23 @@
 
 namespace swba
 {
-Problem::Variable& Problem::var(VariableId id)
+namespace
 {
-	auto it = variables_.find(id);
-	if (it == variables_.end()) throw std::out_of_range("Problem: unknown variable " + std::to_string(id));
+/** The entry of `id` in `map`, else std::out_of_range "Problem: unknown <what> <id>". */
+template <class Map, class Id>
+auto& find_entry(Map& map, Id id, const char* what)
+{
+	auto it = map.find(id);
+	if (it == map.end()) throw std::out_of_range(std::string("Problem: unknown ") + what + " " + std::to_string(id));
 	return it->second;
 }
+}  // namespace
 
-const Problem::Variable& Problem::var(VariableId id) const
-{
-	auto it = variables_.find(id);
-	if (it == variables_.end()) throw std::out_of_range("Problem: unknown variable " + std::to_string(id));
-	return it->second;
-}
+Problem::Variable& Problem::var(VariableId id) { return find_entry(variables_, id, "variable"); }
 
-const Problem::FactorEntry& Problem::factor(FactorId id) const
-{
-	auto it = factors_.find(id);
-	if (it == factors_.end()) throw std::out_of_range("Problem: unknown factor " + std::to_string(id));
-	return it->second;
-}
+const Problem::Variable& Problem::var(VariableId id) const { return find_entry(variables_, id, "variable"); }
+
+const Problem::FactorEntry& Problem::factor(FactorId id) const { return find_entry(factors_, id, "factor"); }
 
 VariableId Problem::add_variable(const double* x0, std::shared_ptr<const Manifold> manifold, Group group)
 {

@@ -69,7 +69,7 @@ class LevenbergMarquardt
 	void accept_step(double new_cost, IterationSummary& it);
 	void reject_step(bool solved);
 	void check_gradient_and_cost();
-	void record(IterationSummary& it, SteadyClock::time_point t_iter, bool accepted);
+	void record(IterationSummary& it, bool accepted);
 	double evaluate_with_jacobians();
 	void assemble();
 	void finish(TerminationType t, const char* message)
@@ -141,18 +141,9 @@ bool LevenbergMarquardt::start()
 		return false;
 	}
 	assemble();
+	if (options_.progress_to_stdout) std::cout << iteration_log_header() << "\n";
 	IterationSummary it0;
-	it0.cost = cost_;
-	it0.gradient_max_norm = ctx_.equations().gradient_max_norm();
-	it0.trust_region_radius = strategy_.radius();
-	it0.step_accepted = true;
-	it0.cumulative_time_s = seconds_since(t_start_);
-	summary_.iterations_log.push_back(it0);
-	if (options_.progress_to_stdout)
-	{
-		std::cout << iteration_log_header() << "\n" << format_iteration(it0) << "\n";
-		std::cout.flush();
-	}
+	record(it0, true);
 	if (ctx_.program().kept_dim() + ctx_.program().elim_dim() == 0)
 		finish(TerminationType::Convergence, "no free variables");
 	else
@@ -195,7 +186,8 @@ bool LevenbergMarquardt::iterate()
 		accepted = try_step(it);
 	}
 	if (!accepted) reject_step(solved);
-	record(it, t_iter, accepted);
+	it.iteration_time_s = seconds_since(t_iter);
+	record(it, accepted);
 	return true;
 }
 
@@ -266,13 +258,13 @@ void LevenbergMarquardt::reject_step(bool solved)
 		finish(TerminationType::Failure, "linear system not positive definite after 20 attempts");
 }
 
-void LevenbergMarquardt::record(IterationSummary& it, SteadyClock::time_point t_iter, bool accepted)
+/** Completes `it` with the state after its step (iteration 0: the initial state), logs and prints it. */
+void LevenbergMarquardt::record(IterationSummary& it, bool accepted)
 {
 	it.cost = cost_;
 	it.gradient_max_norm = ctx_.equations().gradient_max_norm();
 	it.trust_region_radius = strategy_.radius();
 	it.step_accepted = accepted;
-	it.iteration_time_s = seconds_since(t_iter);
 	it.cumulative_time_s = seconds_since(t_start_);
 	summary_.iterations_log.push_back(it);
 	if (options_.progress_to_stdout)

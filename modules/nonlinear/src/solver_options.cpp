@@ -30,13 +30,10 @@ void SolverOptions::validate() const
 
 IniKeys<SolverOptions> SolverOptions::ini_keys(const std::string& section)
 {
-	using S = std::string;
 	using O = SolverOptions;
 	using namespace ini;
 	return {
-		{section, "max_iterations", "iterations", "LM iterations per solve",
-		 [](const S& v, O& o) { o.max_iterations = parse_int_min(v, 1); },
-		 [](const O& o) { return std::to_string(o.max_iterations); }},
+		int_key<O>(section, "max_iterations", "iterations", "LM iterations per solve", &O::max_iterations, 1),
 		number_key<O>(section, "function_tolerance", "relative", "stop when |d cost| / cost < this",
 					  &O::function_tolerance, parse_non_negative),
 		number_key<O>(section, "gradient_tolerance", "cost units", "stop when max |gradient| <= this",
@@ -45,12 +42,9 @@ IniKeys<SolverOptions> SolverOptions::ini_keys(const std::string& section)
 					  &O::parameter_tolerance, parse_non_negative),
 		enum_key<O, LinearSolverType>(section, "linear_solver", "linear solver of each LM step", "linear solver",
 									  [](auto& o) -> auto& { return o.linear_solver; }),
-		{section, "dense_max_dim", "unknowns", "with linear_solver = auto: reduced systems up to this size use dense LLT",
-		 [](const S& v, O& o) { o.dense_max_dim = parse_int_min(v, 0); },
-		 [](const O& o) { return std::to_string(o.dense_max_dim); }},
-		{section, "threads", "count", "threads of the evaluation and assembly",
-		 [](const S& v, O& o) { o.num_threads = parse_int_min(v, 1); },
-		 [](const O& o) { return std::to_string(o.num_threads); }},
+		int_key<O>(section, "dense_max_dim", "unknowns",
+				   "with linear_solver = auto: reduced systems up to this size use dense LLT", &O::dense_max_dim, 0),
+		int_key<O>(section, "threads", "count", "threads of the evaluation and assembly", &O::num_threads, 1),
 	};
 }
 }  // namespace swba

@@ -40,6 +40,22 @@ void write_bal_ply(const std::string& path, const BalProblem& bal)
 	io::write_ply(path, bal_camera_centres(bal), pts);
 }
 
+namespace
+{
+/** Holds constant the variables of `vars` no observation reached (`seen[k]` 0); their number. */
+int hold_unobserved(const std::vector<VariableId>& vars, const std::vector<char>& seen, Problem& problem)
+{
+	int n = 0;
+	for (size_t k = 0; k < vars.size(); k++)
+		if (!seen[k])
+		{
+			problem.set_constant(vars[k]);
+			n++;
+		}
+	return n;
+}
+}  // namespace
+
 BalVariables add_bal_to_problem(const BalProblem& bal, Problem& problem, std::shared_ptr<const LossFunction> loss)
 {
 	BalVariables vars;
@@ -59,18 +75,8 @@ BalVariables add_bal_to_problem(const BalProblem& bal, Problem& problem, std::sh
 		cam_seen[static_cast<size_t>(o.camera)] = 1;
 		point_seen[static_cast<size_t>(o.point)] = 1;
 	}
-	for (int i = 0; i < bal.num_cameras; i++)
-		if (!cam_seen[static_cast<size_t>(i)])
-		{
-			problem.set_constant(vars.cameras[static_cast<size_t>(i)]);
-			vars.num_unobserved_cameras++;
-		}
-	for (int j = 0; j < bal.num_points; j++)
-		if (!point_seen[static_cast<size_t>(j)])
-		{
-			problem.set_constant(vars.points[static_cast<size_t>(j)]);
-			vars.num_unobserved_points++;
-		}
+	vars.num_unobserved_cameras = hold_unobserved(vars.cameras, cam_seen, problem);
+	vars.num_unobserved_points = hold_unobserved(vars.points, point_seen, problem);
 	return vars;
 }
 

@@ -23,6 +23,15 @@ void to_storage(const io::PoseGraphVertex3& v, double* x)
 	T.col(3) = v.t;
 }
 
+/** Adds the factor of edge e (its information, between its two vertices). */
+template <class Edge>
+void add_edge_factor(const std::shared_ptr<Factor>& f, const Edge& e, const PoseGraphProblemOptions& opt,
+					 PoseGraphProblem& out)
+{
+	f->set_information(e.information);
+	out.problem.add_factor(f, {out.variable_of.at(e.from), out.variable_of.at(e.to)}, opt.loss);
+}
+
 void add_vertices_and_edges(const PoseGraph& g, const PoseGraphProblemOptions& opt, PoseGraphProblem& out)
 {
 	Problem& P = out.problem;
@@ -40,17 +49,8 @@ void add_vertices_and_edges(const PoseGraph& g, const PoseGraphProblemOptions& o
 		out.variable_of[id] = P.add_variable(p, r3);
 	}
 	for (const auto& e : g.edges3)
-	{
-		auto f = std::make_shared<RelativePoseFactor>(e.q, e.t, opt.rotation_error);
-		f->set_information(e.information);
-		P.add_factor(f, {out.variable_of.at(e.from), out.variable_of.at(e.to)}, opt.loss);
-	}
-	for (const auto& e : g.edges2)
-	{
-		auto f = std::make_shared<RelativePose2dFactor>(e.x, e.y, e.theta);
-		f->set_information(e.information);
-		P.add_factor(f, {out.variable_of.at(e.from), out.variable_of.at(e.to)}, opt.loss);
-	}
+		add_edge_factor(std::make_shared<RelativePoseFactor>(e.q, e.t, opt.rotation_error), e, opt, out);
+	for (const auto& e : g.edges2) add_edge_factor(std::make_shared<RelativePose2dFactor>(e.x, e.y, e.theta), e, opt, out);
 }
 
 /** FIX vertices constant; without FIX lines, the lowest-id vertex held by the requested gauge. */

@@ -277,13 +277,13 @@ void odometry3(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& anch
 	}
 }
 
-void chordal3(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& anchored, const PoseGraphInitOptions& o)
+/** Rotations: X_v = R_vᵀ (column k = row k of R_v); R_b = R_a·R_ab  ⇔  X_b = R_abᵀ·X_a. */
+void chordal_rotations3(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& anchored,
+						std::unique_ptr<BlockCholesky>& chol)
 {
 	const int n = static_cast<int>(gi.ids.size());
-	// Rotations: X_v = R_vᵀ (column k = row k of R_v); R_b = R_a·R_ab  ⇔  X_b = R_abᵀ·X_a.
 	std::vector<Eigen::Matrix3d> X(n);
 	for (int v = 0; v < n; v++) X[v] = g.vertices3.at(gi.ids[v]).q.toRotationMatrix().transpose();
-	std::unique_ptr<BlockCholesky> chol;  // rotations and positions share the pattern
 	std::vector<LinearEdge<3, 3>> rot(g.edges3.size());
 	for (size_t k = 0; k < g.edges3.size(); k++)
 	{
@@ -295,14 +295,14 @@ void chordal3(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& ancho
 	solve_anchored<3, 3>(anchored, rot, X, chol, "chordal initialisation (rotations)");
 	for (int v = 0; v < n; v++)
 		if (!anchored[v]) g.vertices3.at(gi.ids[v]).q = Eigen::Quaterniond(project_to_so3(X[v].transpose())).normalized();
+}
 
-	if (!o.solve_positions)
-	{
-		odometry3(g, gi, anchored, false);
-		return;
-	}
-	// Positions given the rotations: the exact minimiser of ½ Σ [r_t; r_r]ᵀΛ[r_t; r_r] over t, i.e.
-	// r_t + c with c = Λ_tt⁻¹Λ_tr·r_r, in the world frame: t_b − t_a − R_a(t_ab − c), Ω = R_a Λ_tt R_aᵀ.
+/** Positions given the rotations: the exact minimiser of ½ Σ [r_t; r_r]ᵀΛ[r_t; r_r] over t, i.e.
+ * r_t + c with c = Λ_tt⁻¹Λ_tr·r_r, in the world frame: t_b − t_a − R_a(t_ab − c), Ω = R_a Λ_tt R_aᵀ. */
+void chordal_positions3(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& anchored,
+						const PoseGraphInitOptions& o, std::unique_ptr<BlockCholesky>& chol)
+{
+	const int n = static_cast<int>(gi.ids.size());
 	std::vector<Eigen::Vector3d> T(n);
 	for (int v = 0; v < n; v++) T[v] = g.vertices3.at(gi.ids[v]).t;
 	std::vector<LinearEdge<3, 1>> pos(g.edges3.size());
@@ -345,17 +345,17 @@ void odometry2(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& anch
 	}
 }
 
-void chordal2(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& anchored, const PoseGraphInitOptions& o)
+/** Rotations as unit complex numbers z = (cos θ, sin θ): z_b = R(θ_ab)·z_a. */
+void chordal_rotations2(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& anchored,
+						std::unique_ptr<BlockCholesky>& chol)
 {
 	const int n = static_cast<int>(gi.ids.size());
-	// Rotations as unit complex numbers z = (cos θ, sin θ): z_b = R(θ_ab)·z_a.
 	std::vector<Eigen::Vector2d> Z(n);
 	for (int v = 0; v < n; v++)
 	{
 		const double th = g.vertices2.at(gi.ids[v]).theta;
 		Z[v] = Eigen::Vector2d(std::cos(th), std::sin(th));
 	}
-	std::unique_ptr<BlockCholesky> chol;  // rotations and positions share the pattern
 	std::vector<LinearEdge<2, 1>> rot(g.edges2.size());
 	for (size_t k = 0; k < g.edges2.size(); k++)
 	{
@@ -366,12 +366,13 @@ void chordal2(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& ancho
 	solve_anchored<2, 1>(anchored, rot, Z, chol, "chordal initialisation (rotations)");
 	for (int v = 0; v < n; v++)
 		if (!anchored[v]) g.vertices2.at(gi.ids[v]).theta = std::atan2(Z[v].y(), Z[v].x());
+}
 
-	if (!o.solve_positions)
-	{
-		odometry2(g, gi, anchored, false);
-		return;
-	}
+/** Positions given the headings, as chordal_positions3 in the plane. */
+void chordal_positions2(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& anchored,
+						const PoseGraphInitOptions&, std::unique_ptr<BlockCholesky>& chol)
+{
+	const int n = static_cast<int>(gi.ids.size());
 	std::vector<Eigen::Vector2d> P(n);
 	for (int v = 0; v < n; v++) P[v] = Eigen::Vector2d(g.vertices2.at(gi.ids[v]).x, g.vertices2.at(gi.ids[v]).y);
 	std::vector<LinearEdge<2, 1>> pos(g.edges2.size());
@@ -393,6 +394,18 @@ void chordal2(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& ancho
 		auto& vx = g.vertices2.at(gi.ids[v]);
 		vx.x = P[v].x(), vx.y = P[v].y();
 	}
+}
+
+/** The chordal initialisation: rotations relaxed and projected, then positions given them (without
+ * solve_positions: composed along the odometry tree). Both solves share one pattern, so `chol`'s
+ * symbolic analysis is done once. */
+void chordal(PoseGraph& g, const GraphIndex& gi, const std::vector<char>& anchored, const PoseGraphInitOptions& o)
+{
+	const bool planar = g.is_2d();
+	std::unique_ptr<BlockCholesky> chol;
+	(planar ? chordal_rotations2 : chordal_rotations3)(g, gi, anchored, chol);
+	if (o.solve_positions) (planar ? chordal_positions2 : chordal_positions3)(g, gi, anchored, o, chol);
+	else (planar ? odometry2 : odometry3)(g, gi, anchored, false);
 }
 }  // namespace
 
@@ -422,10 +435,7 @@ PoseGraphInitSummary initialize_pose_graph(PoseGraph& g, const PoseGraphInitOpti
 		else odometry3(g, gi, anchored, true);
 	}
 	else if (o.method == PoseGraphInit::Chordal)
-	{
-		if (g.is_2d()) chordal2(g, gi, anchored, o);
-		else chordal3(g, gi, anchored, o);
-	}
+		chordal(g, gi, anchored, o);
 	s.time_s = seconds_since(t0);
 	return s;
 }

@@ -19,6 +19,7 @@ namespace swba::apps
 {
 using problems::MonoBAScene;
 
+using detail::print_to;
 using detail::rotation_angle_deg;
 
 namespace
@@ -40,17 +41,13 @@ const char* termination_name(TerminationType t)
 
 void print_scene_and_gauge(std::ostream& os, const problems::MonoBASceneOptions& so, const MonoBAOptions& options)
 {
-	char buf[512];
-	std::snprintf(buf, sizeof(buf),
-				  "Mono BA: %d cameras on an arc of radius %.3g m, %d points, observation noise sigma = %.6g "
-				  "(normalised plane), initial depth noise sigma = %.3g m, seed %u\n",
-				  so.cameras, so.arc_radius_m, so.points, so.noise, so.depth_noise_m, so.seed);
-	os << buf;
+	print_to(os, "Mono BA: %d cameras on an arc of radius %.3g m, %d points, observation noise sigma = %.6g "
+			 "(normalised plane), initial depth noise sigma = %.3g m, seed %u\n",
+			 so.cameras, so.arc_radius_m, so.points, so.noise, so.depth_noise_m, so.seed);
 	if (so.pose_noise_m > 0 || so.pose_noise_rad > 0)
 	{
-		std::snprintf(buf, sizeof(buf), "Initial pose noise from camera %d on: sigma %.3g m, %.3g rad\n",
-					  so.pose_noise_from, so.pose_noise_m, so.pose_noise_rad);
-		os << buf;
+		print_to(os, "Initial pose noise from camera %d on: sigma %.3g m, %.3g rad\n",
+				 so.pose_noise_from, so.pose_noise_m, so.pose_noise_rad);
 	}
 	switch (options.gauge)
 	{
@@ -60,9 +57,8 @@ void print_scene_and_gauge(std::ostream& os, const problems::MonoBASceneOptions&
 			   << " constant)\n";
 			break;
 		case GaugeMode::Prior:
-			std::snprintf(buf, sizeof(buf), "Gauge: prior (pose prior with information %.6g * I on the first %d pose%s)\n",
-						  options.prior_weight, options.anchors, options.anchors > 1 ? "s" : "");
-			os << buf;
+			print_to(os, "Gauge: prior (pose prior with information %.6g * I on the first %d pose%s)\n",
+					 options.prior_weight, options.anchors, options.anchors > 1 ? "s" : "");
 			break;
 	}
 }
@@ -75,20 +71,16 @@ void print_solver_summary(std::ostream& os, const Summary& summary, bool with_ti
 		os << summary.full_report();
 		return;
 	}
-	char buf[512];
-	std::snprintf(buf, sizeof(buf), "\nInitial cost: %.12e\nFinal cost: %.12e\nIterations: %d\nTermination: %s (%s)\n",
-				  summary.initial_cost, summary.final_cost, summary.iterations, termination_name(summary.termination),
-				  summary.message.c_str());
-	os << buf;
+	print_to(os, "\nInitial cost: %.12e\nFinal cost: %.12e\nIterations: %d\nTermination: %s (%s)\n",
+			 summary.initial_cost, summary.final_cost, summary.iterations, termination_name(summary.termination),
+			 summary.message.c_str());
 }
 
 void print_camera_table(std::ostream& os, const MonoBAScene& scene, const MonoBAResult& result)
 {
-	char buf[512];
 	os << "\nCamera translations (world frame, m), optimised vs ground truth:\n";
-	std::snprintf(buf, sizeof(buf), "%-6s %-36s %-36s %10s %10s\n", "camera", "optimised", "ground truth",
-				  "|error| m", "rot. deg");
-	os << buf;
+	print_to(os, "%-6s %-36s %-36s %10s %10s\n", "camera", "optimised", "ground truth",
+			 "|error| m", "rot. deg");
 	for (size_t n = 0; n < result.poses.size(); n++)
 	{
 		const auto& p = result.poses[n];
@@ -96,44 +88,37 @@ void print_camera_table(std::ostream& os, const MonoBAScene& scene, const MonoBA
 		char a[64], b[64];
 		std::snprintf(a, sizeof(a), "(%10.6f, %10.6f, %10.6f)", p.x(), p.y(), p.z());
 		std::snprintf(b, sizeof(b), "(%10.6f, %10.6f, %10.6f)", g.x(), g.y(), g.z());
-		std::snprintf(buf, sizeof(buf), "%-6zu %-36s %-36s %10.6f %10.6f\n", n, a, b,
-					  (translation(p) - translation(g)).norm(), rotation_angle_deg(g, p));
-		os << buf;
+		print_to(os, "%-6zu %-36s %-36s %10.6f %10.6f\n", n, a, b,
+				 (translation(p) - translation(g)).norm(), rotation_angle_deg(g, p));
 	}
 }
 
 void print_inverse_depth_table(std::ostream& os, const MonoBAScene& scene, const MonoBAResult& result)
 {
-	char buf[512];
 	os << "\nPoint inverse depths (1/m, in the host camera):\n";
-	std::snprintf(buf, sizeof(buf), "%-5s %-4s %14s %14s %14s %12s\n", "point", "host", "ground truth",
-				  "noisy (init.)", "optimised", "rel. error");
-	os << buf;
+	print_to(os, "%-5s %-4s %14s %14s %14s %12s\n", "point", "host", "ground truth",
+			 "noisy (init.)", "optimised", "rel. error");
 	for (size_t i = 0; i < scene.points.size(); i++)
 	{
 		const auto& pt = scene.points[i];
 		const double l = result.inverse_depths[i];
-		std::snprintf(buf, sizeof(buf), "%-5zu %-4d %14.8f %14.8f %14.8f %11.4f%%\n", i, pt.host,
-					  pt.true_inverse_depth, pt.initial_inverse_depth, l,
-					  100.0 * (l - pt.true_inverse_depth) / pt.true_inverse_depth);
-		os << buf;
+		print_to(os, "%-5zu %-4d %14.8f %14.8f %14.8f %11.4f%%\n", i, pt.host,
+				 pt.true_inverse_depth, pt.initial_inverse_depth, l,
+				 100.0 * (l - pt.true_inverse_depth) / pt.true_inverse_depth);
 	}
 }
 
 void print_errors(std::ostream& os, const MonoBAErrors& e)
 {
-	char buf[512];
 	os << "\nErrors vs ground truth (raw = in the solution's frame; aligned = after Sim(3) alignment of the "
 		  "camera centres):\n";
-	std::snprintf(buf, sizeof(buf),
-				  "  camera centres RMSE: raw %.6e m, aligned %.6e m (alignment scale %.9f)\n"
-				  "  rotation RMSE (raw): %.6e deg\n"
-				  "  inverse depth RMSE: raw %.6e 1/m, aligned %.6e 1/m; max relative error (raw) %.4f %%\n"
-				  "  camera 0 drift (raw): %.6e m, %.6e deg\n",
-				  e.pose_rmse_raw_m, e.pose_rmse_aligned_m, e.alignment_scale, e.rotation_rmse_raw_deg,
-				  e.inverse_depth_rmse_raw, e.inverse_depth_rmse_aligned, 100.0 * e.inverse_depth_max_rel_raw,
-				  e.camera0_drift_m, e.camera0_drift_deg);
-	os << buf;
+	print_to(os, "  camera centres RMSE: raw %.6e m, aligned %.6e m (alignment scale %.9f)\n"
+			 "  rotation RMSE (raw): %.6e deg\n"
+			 "  inverse depth RMSE: raw %.6e 1/m, aligned %.6e 1/m; max relative error (raw) %.4f %%\n"
+			 "  camera 0 drift (raw): %.6e m, %.6e deg\n",
+			 e.pose_rmse_raw_m, e.pose_rmse_aligned_m, e.alignment_scale, e.rotation_rmse_raw_deg,
+			 e.inverse_depth_rmse_raw, e.inverse_depth_rmse_aligned, 100.0 * e.inverse_depth_max_rel_raw,
+			 e.camera0_drift_m, e.camera0_drift_deg);
 }
 }  // namespace
 

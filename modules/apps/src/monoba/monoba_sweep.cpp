@@ -28,6 +28,31 @@ void MonoBASweepOptions::validate() const
 	if (repetitions < 1) throw std::invalid_argument("the number of repetitions must be ≥ 1");
 }
 
+namespace
+{
+using detail::print_to;
+using Row = MonoBASweepRow;
+/** The fields a row averages over the seeds: summed over them, then divided by their number. */
+constexpr double Row::*kAveraged[] = {&Row::iterations, &Row::final_cost, &Row::solve_time_s,
+									  &Row::pose_rmse_raw_m, &Row::pose_rmse_aligned_m, &Row::inverse_depth_rmse_raw,
+									  &Row::camera0_drift_m, &Row::camera0_drift_deg};
+
+/** One seed's figures in the averaged fields of a row. */
+Row sample_of(const MonoBAResult& r)
+{
+	Row s;
+	s.iterations = r.summary.iterations;
+	s.final_cost = r.summary.final_cost;
+	s.solve_time_s = r.solve_time_s;
+	s.pose_rmse_raw_m = r.errors.pose_rmse_raw_m;
+	s.pose_rmse_aligned_m = r.errors.pose_rmse_aligned_m;
+	s.inverse_depth_rmse_raw = r.errors.inverse_depth_rmse_raw;
+	s.camera0_drift_m = r.errors.camera0_drift_m;
+	s.camera0_drift_deg = r.errors.camera0_drift_deg;
+	return s;
+}
+}  // namespace
+
 std::vector<MonoBASweepRow> run_prior_weight_sweep(const problems::MonoBASceneOptions& scene_options, const MonoBAOptions& options,
 											 const MonoBASweepOptions& sweep)
 {
@@ -62,29 +87,14 @@ std::vector<MonoBASweepRow> run_prior_weight_sweep(const problems::MonoBASceneOp
 			o.prior_weight = configs[c].weight;
 			const MonoBAResult r = run_monoba(scene, o, sweep.repetitions);
 			MonoBASweepRow& row = rows[c];
-			row.iterations += r.summary.iterations;
-			row.final_cost += r.summary.final_cost;
-			row.solve_time_s += r.solve_time_s;
-			row.pose_rmse_raw_m += r.errors.pose_rmse_raw_m;
-			row.pose_rmse_aligned_m += r.errors.pose_rmse_aligned_m;
-			row.inverse_depth_rmse_raw += r.errors.inverse_depth_rmse_raw;
-			row.camera0_drift_m += r.errors.camera0_drift_m;
-			row.camera0_drift_deg += r.errors.camera0_drift_deg;
+			const Row sample = sample_of(r);
+			for (double Row::*f : kAveraged) row.*f += sample.*f;
 			if (r.summary.termination != TerminationType::Convergence) row.not_converged++;
 		}
 	}
 	const double inv = 1.0 / sweep.seeds;
 	for (auto& row : rows)
-	{
-		row.iterations *= inv;
-		row.final_cost *= inv;
-		row.solve_time_s *= inv;
-		row.pose_rmse_raw_m *= inv;
-		row.pose_rmse_aligned_m *= inv;
-		row.inverse_depth_rmse_raw *= inv;
-		row.camera0_drift_m *= inv;
-		row.camera0_drift_deg *= inv;
-	}
+		for (double Row::*f : kAveraged) row.*f *= inv;
 	return rows;
 }
 
@@ -92,24 +102,20 @@ std::string format_sweep_table(const std::vector<MonoBASweepRow>& rows, const pr
 							   const MonoBAOptions& options, const MonoBASweepOptions& sweep)
 {
 	std::ostringstream os;
-	char buf[512];
-	std::snprintf(buf, sizeof(buf),
-				  "# swba monoba prior-weight sweep: %d cameras, %d points, noise %.6g, depth noise %.3g m, "
-				  "pose noise %.3g m / %.3g rad (cameras >= %d)\n"
-				  "# K = %d anchor poses (fixed: constant; prior: information W*I at the initial value; W = 0: no prior)\n"
-				  "# means over %d seed(s) %u..%u; time = mean over seeds of the median of %d solve(s); "
-				  "max %d iterations, %d thread(s)\n"
-				  "# pose RMSE raw = camera centres in the solution frame; sim3 = after Sim(3) alignment; "
-				  "drift = camera 0 raw; nc = seeds not converged\n",
-				  so.cameras, so.points, so.noise, so.depth_noise_m, so.pose_noise_m, so.pose_noise_rad,
-				  so.pose_noise_from, options.anchors, sweep.seeds, so.seed,
-				  so.seed + static_cast<unsigned>(sweep.seeds) - 1, sweep.repetitions, options.solver.max_iterations,
-				  options.solver.num_threads);
-	os << buf;
-	std::snprintf(buf, sizeof(buf), "%-6s %8s %7s %13s %9s %12s %12s %12s %12s %12s %3s\n", "gauge", "W", "iters",
-				  "final_cost", "time_ms", "pose_rmse_m", "pose_sim3_m", "invd_rmse", "cam0_drift_m", "cam0_drft_deg",
-				  "nc");
-	os << buf;
+	print_to(os, "# swba monoba prior-weight sweep: %d cameras, %d points, noise %.6g, depth noise %.3g m, "
+			 "pose noise %.3g m / %.3g rad (cameras >= %d)\n"
+			 "# K = %d anchor poses (fixed: constant; prior: information W*I at the initial value; W = 0: no prior)\n"
+			 "# means over %d seed(s) %u..%u; time = mean over seeds of the median of %d solve(s); "
+			 "max %d iterations, %d thread(s)\n"
+			 "# pose RMSE raw = camera centres in the solution frame; sim3 = after Sim(3) alignment; "
+			 "drift = camera 0 raw; nc = seeds not converged\n",
+			 so.cameras, so.points, so.noise, so.depth_noise_m, so.pose_noise_m, so.pose_noise_rad,
+			 so.pose_noise_from, options.anchors, sweep.seeds, so.seed,
+			 so.seed + static_cast<unsigned>(sweep.seeds) - 1, sweep.repetitions, options.solver.max_iterations,
+			 options.solver.num_threads);
+	print_to(os, "%-6s %8s %7s %13s %9s %12s %12s %12s %12s %12s %3s\n", "gauge", "W", "iters",
+			 "final_cost", "time_ms", "pose_rmse_m", "pose_sim3_m", "invd_rmse", "cam0_drift_m", "cam0_drft_deg",
+			 "nc");
 	for (const auto& r : rows)
 	{
 		char w[32];
@@ -117,11 +123,10 @@ std::string format_sweep_table(const std::vector<MonoBASweepRow>& rows, const pr
 			std::snprintf(w, sizeof(w), "%.0e", r.weight);
 		else
 			std::snprintf(w, sizeof(w), "-");
-		std::snprintf(buf, sizeof(buf), "%-6s %8s %7.2f %13.6e %9.3f %12.4e %12.4e %12.4e %12.4e %12.4e %3d\n",
-					  r.gauge.c_str(), w, r.iterations, r.final_cost, 1e3 * r.solve_time_s, r.pose_rmse_raw_m,
-					  r.pose_rmse_aligned_m, r.inverse_depth_rmse_raw, r.camera0_drift_m, r.camera0_drift_deg,
-					  r.not_converged);
-		os << buf;
+		print_to(os, "%-6s %8s %7.2f %13.6e %9.3f %12.4e %12.4e %12.4e %12.4e %12.4e %3d\n",
+				 r.gauge.c_str(), w, r.iterations, r.final_cost, 1e3 * r.solve_time_s, r.pose_rmse_raw_m,
+				 r.pose_rmse_aligned_m, r.inverse_depth_rmse_raw, r.camera0_drift_m, r.camera0_drift_deg,
+				 r.not_converged);
 	}
 	return os.str();
 }

@@ -63,38 +63,36 @@ IniKeys<RunOptions> run_section_keys()
 {
 	using namespace ini;
 	return {
-		{"run", "rawlog", "path", "rawlog to run on; empty = kf-slam_6D_demo.rawlog of mrpt-common",
-		 [](const S& v, O& o) { o.rawlog = v; }, [](const O& o) { return o.rawlog; }},
-		{"run", "ground_truth", "path",
-		 "MRPT ground-truth robot path; empty = <rawlog name>_ground_truth_robot_path.txt next to the rawlog if present",
-		 [](const S& v, O& o) { o.ground_truth = v; }, [](const O& o) { return o.ground_truth; }},
-		{"run", "association_truth", "path",
-		 "rawlog with the same readings and their landmark IDs, the truth of the association of a rawlog "
-		 "without IDs; empty = the simulator's landmark file next to the rawlog, if present",
-		 [](const S& v, O& o) { o.association_truth = v; }, [](const O& o) { return o.association_truth; }},
+		text_key<O>("run", "rawlog", "path", "rawlog to run on; empty = kf-slam_6D_demo.rawlog of mrpt-common",
+					&O::rawlog),
+		text_key<O>("run", "ground_truth", "path",
+					"MRPT ground-truth robot path; empty = <rawlog name>_ground_truth_robot_path.txt next to the "
+					"rawlog if present",
+					&O::ground_truth),
+		text_key<O>("run", "association_truth", "path",
+					"rawlog with the same readings and their landmark IDs, the truth of the association of a rawlog "
+					"without IDs; empty = the simulator's landmark file next to the rawlog, if present",
+					&O::association_truth),
 		{"run", "out_dir", "path", "output directory (created)",
 		 [](const S& v, O& o) {
 			 if (v.empty()) throw std::invalid_argument("must not be empty");
 			 o.out_dir = v;
 		 },
 		 [](const O& o) { return o.out_dir; }},
-		{"run", "max_steps", "steps", "process at most this many steps; 0 = all",
-		 [](const S& v, O& o) { o.max_steps = static_cast<std::size_t>(parse_int_min(v, 0)); },
-		 [](const O& o) { return std::to_string(o.max_steps); }},
-		{"run", "batch", "bool", "run the batch estimator (all factors, one solve: window = infinity)",
-		 [](const S& v, O& o) { o.run_batch = parse_bool(v); }, [](const O& o) { return format_bool(o.run_batch); }},
-		{"run", "batch_max_iterations", "iterations", "LM iteration limit of the batch solve",
-		 [](const S& v, O& o) { o.batch_max_iterations = parse_int_min(v, 1); },
-		 [](const O& o) { return std::to_string(o.batch_max_iterations); }},
-		{"run", "causal", "bool",
-		 "also run the full-history causal optimum (online, W = infinity; re-solves the whole history every step)",
-		 [](const S& v, O& o) { o.run_causal = parse_bool(v); }, [](const O& o) { return format_bool(o.run_causal); }},
-		{"run", "plots", "bool", "write gnuplot plots (only when gnuplot is found)",
-		 [](const S& v, O& o) { o.plots = parse_bool(v); }, [](const O& o) { return format_bool(o.plots); }},
-		{"run", "progress", "bool", "progress lines on stderr for estimators running longer than a second",
-		 [](const S& v, O& o) { o.progress = parse_bool(v); }, [](const O& o) { return format_bool(o.progress); }},
-		{"run", "verbose", "bool", "each solve's summary on stderr (a line per window step, the batch's full report)",
-		 [](const S& v, O& o) { o.verbose = parse_bool(v); }, [](const O& o) { return format_bool(o.verbose); }},
+		int_key<O>("run", "max_steps", "steps", "process at most this many steps; 0 = all", &O::max_steps, 0),
+		bool_key<O>("run", "batch", "run the batch estimator (all factors, one solve: window = infinity)",
+					&O::run_batch),
+		int_key<O>("run", "batch_max_iterations", "iterations", "LM iteration limit of the batch solve",
+				   &O::batch_max_iterations, 1),
+		bool_key<O>("run", "causal",
+					"also run the full-history causal optimum (online, W = infinity; re-solves the whole history "
+					"every step)",
+					&O::run_causal),
+		bool_key<O>("run", "plots", "write gnuplot plots (only when gnuplot is found)", &O::plots),
+		bool_key<O>("run", "progress", "progress lines on stderr for estimators running longer than a second",
+					&O::progress),
+		bool_key<O>("run", "verbose", "each solve's summary on stderr (a line per window step, the batch's full report)",
+					&O::verbose),
 	};
 }
 
@@ -119,9 +117,7 @@ IniKeys<RunOptions> window_sweep_keys()
 IniKeys<RunOptions> ekf_keys()
 {
 	return {
-		{"ekf", "enabled", "bool", "run MRPT's EKF (CRangeBearingKFSLAM) with each method",
-		 [](const S& v, O& o) { o.run_ekf = ini::parse_bool(v); },
-		 [](const O& o) { return ini::format_bool(o.run_ekf); }},
+		ini::bool_key<O>("ekf", "enabled", "run MRPT's EKF (CRangeBearingKFSLAM) with each method", &O::run_ekf),
 		{"ekf", "methods", "names", "comma-separated: kfEKFNaive, kfEKFAlaDavison, kfIKFFull, kfIKF",
 		 [](const S& v, O& o) { o.ekf_methods = parse_ekf_method_list(v); },
 		 [](const O& o) { return join(o.ekf_methods, ","); }},

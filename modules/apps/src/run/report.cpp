@@ -19,7 +19,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -293,10 +292,7 @@ void write_run_files(const RunOptions& options, const std::vector<mrpt::poses::C
 void write_run_outputs(const RunOptions& options, const std::vector<mrpt::poses::CPose3D>& gt, RunReport& report)
 {
 	const std::string& dir = options.out_dir;
-	std::error_code ec;
-	std::filesystem::create_directories(dir, ec);
-	if (ec || !std::filesystem::is_directory(dir))
-		throw std::runtime_error("cannot create output directory '" + dir + "'" + (ec ? ": " + ec.message() : ""));
+	create_directory_or_throw(dir, "output directory");
 	write_run_files(options, gt, report);
 
 	if (!options.plots) return;

@@ -36,4 +36,8 @@ void write_file_atomically(const std::string& path, const std::function<void(std
 						   std::ios::openmode mode = std::ios::out);
 /** write_file_atomically of `text` as it is. */
 void write_text_file_atomically(const std::string& path, const std::string& text);
+
+/** Creates directory `dir` and its parents if missing; throws std::runtime_error "cannot create
+ * <what> '<dir>'[: <OS reason>]" unless `dir` is then a directory (e.g. what = "output directory"). */
+void create_directory_or_throw(const std::string& dir, const std::string& what);
 }  // namespace swba

@@ -66,6 +66,33 @@ IniKey<T> number_key(const std::string& section, const std::string& key, const s
 			[field](const T& o) { return format_double(o.*field); }};
 }
 
+/** A key holding an integer member of at least `min_value` (parse_int_min), written in decimal. */
+template <class T, class I>
+IniKey<T> int_key(const std::string& section, const std::string& key, const std::string& unit,
+				  const std::string& meaning, I T::*field, long long min_value)
+{
+	return {section, key, unit, meaning,
+			[field, min_value](const std::string& v, T& o) { o.*field = static_cast<I>(parse_int_min(v, min_value)); },
+			[field](const T& o) { return std::to_string(o.*field); }};
+}
+
+/** A key holding a bool member (unit "bool"; parse_bool, format_bool). */
+template <class T>
+IniKey<T> bool_key(const std::string& section, const std::string& key, const std::string& meaning, bool T::*field)
+{
+	return {section, key, "bool", meaning, [field](const std::string& v, T& o) { o.*field = parse_bool(v); },
+			[field](const T& o) { return format_bool(o.*field); }};
+}
+
+/** A key holding a string member taken as written (e.g. a path; empty allowed). */
+template <class T>
+IniKey<T> text_key(const std::string& section, const std::string& key, const std::string& unit,
+				   const std::string& meaning, std::string T::*field)
+{
+	return {section, key, unit, meaning, [field](const std::string& v, T& o) { o.*field = v; },
+			[field](const T& o) { return o.*field; }};
+}
+
 /** A key holding an enum with a names table (swba/core/names.h); its unit lists the names and a
  * bad value is reported as "unknown <what> '<text>' (expected …)". */
 template <class T, class E, class Member>

@@ -9,6 +9,10 @@
 
 namespace swba
 {
+/** 256 MiB + per_byte · data_bytes: a budget for reading `data_bytes` of a file whose decoded size
+ * is at most `per_byte` times its own; saturates at 2^64 − 2 instead of wrapping. */
+std::uint64_t scaled_memory_budget(std::uint64_t data_bytes, std::uint64_t per_byte);
+
 /** While alive, caps the process's address space (RLIMIT_AS) at its size when constructed plus
  * `bytes`, so that an allocation beyond the budget fails with std::bad_alloc instead of taking the
  * machine's memory; the previous limit is restored on destruction. A lower limit already in place is

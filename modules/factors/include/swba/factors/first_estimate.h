@@ -25,7 +25,6 @@ class FirstEstimateFactor final : public Factor
 	FirstEstimateFactor(std::shared_ptr<const Factor> inner, std::vector<VariableId> variables,
 						std::shared_ptr<const FirstEstimateRegistry> registry);
 	bool evaluate(const double* const* x, double* residual, double* const* jacobians) const override;
-	const std::shared_ptr<const Factor>& inner() const { return inner_; }
 
    private:
 	std::shared_ptr<const Factor> inner_;

@@ -65,7 +65,6 @@ class SubspaceFactor final : public Factor
 	SubspaceFactor(std::shared_ptr<const Factor> inner, std::vector<int> residual_rows,
 				   std::vector<std::vector<int>> tangent_coordinates);
 	bool evaluate(const double* const* x, double* residual, double* const* jacobians) const override;
-	const std::shared_ptr<const Factor>& inner() const { return inner_; }
 
    private:
 	std::shared_ptr<const Factor> inner_;
