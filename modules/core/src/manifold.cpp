@@ -85,9 +85,13 @@ void SE3Manifold::from_pose(const mrpt::poses::CPose3D& pose, double* x)
 mrpt::poses::CPose3D SE3Manifold::to_pose(const double* x)
 {
 	const auto T = se3_view(x);
-	mrpt::math::CMatrixDouble33 R;
-	R.asEigen() = T.leftCols<3>();
-	return mrpt::poses::CPose3D(R, mrpt::math::CVectorFixedDouble<3>(
-									   {T(0, 3), T(1, 3), T(2, 3)}));
+	return to_pose(T.leftCols<3>(), T.col(3));
+}
+
+mrpt::poses::CPose3D SE3Manifold::to_pose(const Eigen::Matrix3d& R, const Eigen::Vector3d& t)
+{
+	mrpt::math::CMatrixDouble33 M;
+	M.asEigen() = R;
+	return mrpt::poses::CPose3D(M, mrpt::math::CVectorFixedDouble<3>({t.x(), t.y(), t.z()}));
 }
 }  // namespace swba

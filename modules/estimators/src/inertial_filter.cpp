@@ -20,13 +20,6 @@ namespace
 using Matrix15d = Eigen::Matrix<double, 15, 15>;
 using RowMajor6 = Eigen::Matrix<double, 6, 6, Eigen::RowMajor>;
 
-mrpt::poses::CPose3D make_pose(const Eigen::Matrix3d& R, const Eigen::Vector3d& p)
-{
-	mrpt::math::CMatrixDouble33 M;
-	M.asEigen() = R;
-	return mrpt::poses::CPose3D(M, mrpt::math::CVectorFixedDouble<3>({p.x(), p.y(), p.z()}));
-}
-
 Eigen::Vector3d position(const mrpt::poses::CPose3D& p) { return {p.x(), p.y(), p.z()}; }
 
 /** blockdiag(R, I): maps the manifold tangent [ρ (body), ω] to the filter's [δp (world), δφ]. */
@@ -129,7 +122,7 @@ void ErrorStateKalmanFilter::propagate(const ImuSample& s0, const ImuSample& s1)
 	t_ = s1.t;
 }
 
-mrpt::poses::CPose3D ErrorStateKalmanFilter::pose() const { return make_pose(x_.R, x_.p); }
+mrpt::poses::CPose3D ErrorStateKalmanFilter::pose() const { return SE3Manifold::to_pose(x_.R, x_.p); }
 
 Matrix6d ErrorStateKalmanFilter::pose_covariance() const
 {
@@ -196,7 +189,7 @@ double ErrorStateKalmanFilter::update_relative(const mrpt::poses::CPose3D& D, co
 {
 	if (!clone_) throw std::logic_error("ErrorStateKalmanFilter::update_relative without a cloned pose");
 	double Ti[12], Tj[12];
-	SE3Manifold::from_pose(make_pose(clone_->R, clone_->p), Ti);
+	SE3Manifold::from_pose(SE3Manifold::to_pose(clone_->R, clone_->p), Ti);
 	SE3Manifold::from_pose(pose(), Tj);
 	const BetweenPoseFactor f(D);
 	RowMajor6 Ji, Jj;

@@ -91,14 +91,7 @@ std::vector<ImuSample> interval_samples(const std::vector<ImuSample>& imu, std::
 
 Matrix6d information(const Matrix6d& covariance) { return covariance.inverse(); }
 
-mrpt::poses::CPose3D make_pose(const NavState& x)
-{
-	double v[12];
-	auto T = se3_view(v);
-	T.leftCols<3>() = x.R;
-	T.col(3) = x.p;
-	return SE3Manifold::to_pose(v);
-}
+mrpt::poses::CPose3D make_pose(const NavState& x) { return SE3Manifold::to_pose(x.R, x.p); }
 
 /** The window's factor graph on the smoother, and the smoother's client. */
 class InertialGraph : smoother::SmootherClient

@@ -23,13 +23,6 @@ constexpr double kPi = 3.14159265358979323846;
 // the two step faces joining them (planes 3, 4; points are never taken on those). Depths 1.8–2.4 m.
 constexpr double kStripX[2] = {-0.5, 0.6};          // strip borders in x
 constexpr double kStripZ[3] = {2.1, 1.8, 2.4};      // depth of each strip
-mrpt::poses::CPose3D make_pose(const Eigen::Matrix3d& R, const Eigen::Vector3d& t)
-{
-	mrpt::math::CMatrixDouble33 M;
-	M.asEigen() = R;
-	return mrpt::poses::CPose3D(M, mrpt::math::CVectorFixedDouble<3>({t.x(), t.y(), t.z()}));
-}
-
 double deg(double d) { return d * kPi / 180.0; }
 }  // namespace
 
@@ -118,7 +111,7 @@ void add_true_cameras(const SyntheticDirectBAOptions& o, io::DirectBADataset& gt
 								   Eigen::AngleAxisd(deg(0.4 * std::sin(s)), Eigen::Vector3d::UnitX()) *
 								   Eigen::AngleAxisd(deg(0.3 * std::cos(3 * s)), Eigen::Vector3d::UnitZ()))
 									  .toRotationMatrix();
-		gt.world_from_camera.push_back(make_pose(R, centre));
+		gt.world_from_camera.push_back(SE3Manifold::to_pose(R, centre));
 		gt.timestamps.push_back(i);
 		gt.images.push_back(std::make_shared<IntensityImage>(
 			render_synthetic_room(gt.world_from_camera.back(), o.intrinsics, o.width, o.height, o.quantize)));

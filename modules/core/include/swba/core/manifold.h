@@ -59,6 +59,8 @@ class SE3Manifold final : public Manifold
 
 	static void from_pose(const mrpt::poses::CPose3D& pose, double* x);
 	static mrpt::poses::CPose3D to_pose(const double* x);
+	/** The pose of rotation R (body → world) and translation t. */
+	static mrpt::poses::CPose3D to_pose(const Eigen::Matrix3d& R, const Eigen::Vector3d& t);
 };
 
 /** Shared Euclidean manifolds of small sizes (1..16), created on first use. */
