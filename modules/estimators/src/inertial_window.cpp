@@ -307,6 +307,8 @@ detail::InertialGaugeSnapshot InertialGraph::gauge_snapshot() const
 void InertialGraph::anchor_gauge(const detail::InertialGaugeSnapshot& before)
 {
 	if (gauge_ != GaugeMode::Free || before.ids.empty()) return;
+	// Straight into the problem, not through the smoother's add_factor: it is no measurement, it is removed
+	// (hold_gauge) before anything is marginalised, and its Jacobian at its own Z needs no first estimate.
 	anchor_ = sm_.problem().add_factor(detail::inertial_gauge_anchor(before), {before.ids.front()});
 }
 
