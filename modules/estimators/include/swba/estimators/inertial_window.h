@@ -4,9 +4,9 @@
  * pose T ∈ SE(3) (SE3Manifold), velocity v ∈ ℝ³ (world), biases b = [b_a; b_g] ∈ ℝ⁶ — constrained by an
  * ImuPreintegrationFactor between consecutive keyframes, a PosePriorFactor per pose prior, a
  * BetweenPoseFactor per odometry increment between consecutive keyframes (increments composed when the
- * odometry is faster than the keyframes) and Euclidean priors on the first velocity and biases. The oldest
- * keyframe leaves with its velocity and biases in FixedLagSmoother::update (the graph is its client; the (J, e,
- * x₀) prior and first-estimate Jacobians unchanged). After each update, an IMU factor whose b_i moved from
+ * odometry is faster than the keyframes) and priors on the first velocity (in the body frame under the free
+ * gauge) and biases. The oldest keyframe leaves with its velocity and biases in FixedLagSmoother::update
+ * (the graph is its client; the (J, e, x₀) prior and first-estimate Jacobians unchanged). After each update, an IMU factor whose b_i moved from
  * its pre-integration's linearisation bias by more than the thresholds is re-integrated and replaced.
  *
  * Gauge: with pose priors the frame is fixed. Without them (IMU + relative poses) x, y, z and yaw are
