@@ -84,19 +84,24 @@ TEST(InertialGauge, FixedHoldsTheFirstPositionAndYawExactlyAndRecoversTheTilt)
 
 TEST(InertialGauge, FreeIsWithinTenPercentOfFixedAfterAFourDofAlignment)
 {
-	// W = 30 (also W = 20 and the full history: 4 % apart). Known: at W = 10 the free gauge is 53 % worse
-	// (0.102 m against 0.067 m online), with or without its hold, at any LM damping and marginalisation
-	// threshold; the cause is not found (doc/inertial.md).
+	// Online within 10 % at every W; lagged too at W = 20 and 30 (at W = 10 it is 10.6 %, a miss doc/inertial.md
+	// reports, not asserted with a wider bound). What is left is the
+	// marginalisation: the free prior cannot hold where the window is against the keyframes already gone
+	// (the fixed one holds it against the first), and on other seeds that costs up to 34 % at any W, while
+	// the full history matches the fixed gauge within 0.2 % (doc/inertial.md, Gauge).
 	const GaugeCase c;
-	const InertialWindowResult fixed = c.run(GaugeMode::Fixed, 30), free = c.run(GaugeMode::Free, 30);
-	const double fixed_online = c.aligned_rmse(fixed.online), free_online = c.aligned_rmse(free.online),
-				 fixed_lagged = c.aligned_rmse(fixed.lagged), free_lagged = c.aligned_rmse(free.lagged);
-	const double drift = (test::position(free.lagged.poses.front()) - test::position(c.in.odometry.front().pose)).norm();
-	std::printf("[gauge free] aligned RMSE online %.4f m (fixed %.4f), lagged %.4f m (fixed %.4f); first pose "
-				"moved %.2g m\n",
-				free_online, fixed_online, free_lagged, fixed_lagged, drift);
-	EXPECT_NEAR(free_online, fixed_online, 0.1 * fixed_online);
-	EXPECT_NEAR(free_lagged, fixed_lagged, 0.1 * fixed_lagged);
-	EXPECT_LT(drift, 0.1);	// each solve's motion along the gauge is undone: the frame stays where it started
-	EXPECT_EQ(free.online.pose_covariances.back(), Matrix6d::Zero());  // singular: not reported
+	for (const int W : {10, 20, 30})
+	{
+		const InertialWindowResult fixed = c.run(GaugeMode::Fixed, W), free = c.run(GaugeMode::Free, W);
+		const double fixed_online = c.aligned_rmse(fixed.online), free_online = c.aligned_rmse(free.online),
+					 fixed_lagged = c.aligned_rmse(fixed.lagged), free_lagged = c.aligned_rmse(free.lagged);
+		const double drift = (test::position(free.lagged.poses.front()) - test::position(c.in.odometry.front().pose)).norm();
+		std::printf("[gauge free] W = %d: aligned RMSE online %.4f m (fixed %.4f), lagged %.4f m (fixed %.4f); first "
+					"pose moved %.2g m\n",
+					W, free_online, fixed_online, free_lagged, fixed_lagged, drift);
+		EXPECT_LT(free_online, 1.1 * fixed_online) << "W = " << W;
+		if (W >= 20) EXPECT_LT(free_lagged, 1.1 * fixed_lagged) << "W = " << W;
+		EXPECT_LT(drift, 1e-3) << "W = " << W;  // the frame stays where it started
+		EXPECT_EQ(free.online.pose_covariances.back(), Matrix6d::Zero());  // singular: not reported
+	}
 }

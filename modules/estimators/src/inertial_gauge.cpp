@@ -1,6 +1,7 @@
 #include "inertial_gauge.h"
 
 #include <swba/core/lie.h>
+#include <swba/factors/pose_prior.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
@@ -86,18 +87,34 @@ Eigen::Matrix<double, 6, 6> tilt_prior_sqrt_information(const Eigen::Matrix3d& R
 	return W;
 }
 
-void InertialGaugeSnapshot::add(VariableId T, const double* pose, VariableId v, const double* velocity)
+void InertialGaugeSnapshot::add(VariableId T, const double* pose)
 {
-	ids.push_back({T, v});
+	ids.push_back(T);
 	poses.emplace_back(pose, pose + SE3Manifold::kAmbient);
-	velocities.push_back(Eigen::Map<const Eigen::Vector3d>(velocity));
+}
+
+std::shared_ptr<Factor> inertial_gauge_anchor(const InertialGaugeSnapshot& at)
+{
+	// Stiff, so that LM cannot move the four directions; the value does not matter otherwise, since the
+	// rest of the window has no information along them (the residual stays at zero).
+	constexpr double kSigma = 1e-6;
+	const double* Z = at.poses.front().data();
+	const Eigen::Matrix3d R_Z = se3_view(Z).leftCols<3>();
+	// The residual is [R_Zᵀ(p − p_Z), ω] in Z's body frame: R_Z maps both to the world's axes.
+	Eigen::Matrix<double, 6, 6> W = Eigen::Matrix<double, 6, 6>::Zero();
+	W.topLeftCorner<3, 3>() = R_Z / kSigma;
+	W.block<1, 3>(5, 3) = R_Z.row(2) / kSigma;
+	auto f = std::make_shared<PosePriorFactor>(SE3Manifold::to_pose(Z));
+	f->set_sqrt_information(W);
+	return f;
 }
 
 void hold_inertial_gauge(Problem& problem, const InertialGaugeSnapshot& before,
 						 const std::vector<std::pair<VariableId, VariableId>>& window)
 {
-	// Gauge directions at a pose (right perturbation [ρ, ω]) and a velocity, columns [u_x, u_y, u_z, w]:
-	// p ↦ p + u + w e_z × p, R ↦ Exp(w e_z) R, v ↦ v + w e_z × v.
+	// Gauge directions at a pose (right perturbation [ρ, ω]), columns [u_x, u_y, u_z, w]:
+	// p ↦ p + u + w e_z × p, R ↦ Exp(w e_z) R. A velocity's rotation is not used: it also moves by real
+	// corrections of its direction in the body, which would leak into w.
 	Eigen::Matrix4d A = Eigen::Matrix4d::Zero();
 	Eigen::Vector4d g = Eigen::Vector4d::Zero();
 	const Eigen::Vector3d ez = Eigen::Vector3d::UnitZ();
@@ -105,14 +122,12 @@ void hold_inertial_gauge(Problem& problem, const InertialGaugeSnapshot& before,
 	{
 		const auto T0 = se3_view(before.poses[i].data());
 		const Eigen::Matrix3d Rt = T0.leftCols<3>().transpose();
-		Eigen::Matrix<double, 9, 4> N = Eigen::Matrix<double, 9, 4>::Zero();
+		Eigen::Matrix<double, 6, 4> N = Eigen::Matrix<double, 6, 4>::Zero();
 		N.block<3, 3>(0, 0) = Rt;
 		N.block<3, 1>(0, 3) = Rt * ez.cross(Eigen::Vector3d(T0.col(3)));
 		N.block<3, 1>(3, 3) = Rt * ez;
-		N.block<3, 1>(6, 3) = ez.cross(before.velocities[i]);
-		Eigen::Matrix<double, 9, 1> d;
-		SE3Manifold::instance()->minus(problem.value(before.ids[i].first), before.poses[i].data(), d.data());
-		d.tail<3>() = Eigen::Map<const Eigen::Vector3d>(problem.value(before.ids[i].second)) - before.velocities[i];
+		Eigen::Matrix<double, 6, 1> d;
+		SE3Manifold::instance()->minus(problem.value(before.ids[i]), before.poses[i].data(), d.data());
 		A += N.transpose() * N;
 		g += N.transpose() * d;
 	}

@@ -2,8 +2,9 @@
  * The four-DoF gauge of the inertial window without pose priors: IMU + relative poses leave the world
  * translation (x, y, z) and the rotation about the vertical (yaw) unobservable; gravity observes roll and
  * pitch. The fixed gauge makes those four directions of the first keyframe's pose constant (TiltManifold,
- * with TiltFactor for the factors on it); the free gauge leaves them to LM and undoes, after each solve,
- * the four-DoF motion the solve made along them (hold_inertial_gauge). */
+ * with TiltFactor for the factors on it); the free gauge gives them no information, picks the frame of
+ * each solve by anchoring them on the marginal prior's keyframe (inertial_gauge_anchor) and undoes what
+ * motion is left after it (hold_inertial_gauge). */
 #pragma once
 
 #include <swba/core/factor.h>
@@ -49,20 +50,24 @@ class TiltFactor final : public Factor
  * each with σ `tilt_sigma`: the gauge directions carry no information. */
 Eigen::Matrix<double, 6, 6> tilt_prior_sqrt_information(const Eigen::Matrix3d& R_Z, double tilt_sigma);
 
-/** The reference of the free gauge: poses and velocities (pairs of ids) at the values the window's frame is
- * held to. */
+/** The reference of the free gauge: poses at the values the window's frame is held to. */
 struct InertialGaugeSnapshot
 {
-	std::vector<std::pair<VariableId, VariableId>> ids;
+	std::vector<VariableId> ids;
 	std::vector<std::vector<double>> poses;
-	std::vector<Eigen::Vector3d> velocities;
-	void add(VariableId T, const double* pose, VariableId v, const double* velocity);
+	void add(VariableId T, const double* pose);
 };
 
-/** Fits the motion [u (world translation), w (yaw about the world's z)] that best explains the displacement
- * of the snapshot's poses and velocities from their values there (least squares in their tangent
- * coordinates) and undoes it on every pose and velocity of `window`: p ← Rz(−w)p − u, R ← Rz(−w)R,
- * v ← Rz(−w)v. Every factor of the window is invariant under it. */
+/** A PosePriorFactor at the snapshot's first pose that weighs only its world position and its rotation
+ * about the world's z (σ 1e-6 m, rad): it picks the frame of the solve without informing anything else
+ * (the free gauge's marginal prior has no information along those four directions). */
+std::shared_ptr<Factor> inertial_gauge_anchor(const InertialGaugeSnapshot& at);
+
+/** Fits the motion [u (world translation), w (yaw about the world's z)] that best explains the
+ * displacement of the snapshot's poses from their values there (least squares in their tangent
+ * coordinates: position and rotation, never a velocity, whose direction in the body is observable) and
+ * undoes it on every pose and velocity of `window`: p ← Rz(−w)p − u, R ← Rz(−w)R, v ← Rz(−w)v. Every
+ * factor of the window is invariant under it. */
 void hold_inertial_gauge(Problem& problem, const InertialGaugeSnapshot& before,
 						 const std::vector<std::pair<VariableId, VariableId>>& window);
 }  // namespace swba::estimators::detail

@@ -4,6 +4,7 @@
 
 #include <swba/core/manifold.h>
 #include <swba/factors/between_pose.h>
+#include <swba/factors/body_velocity_prior.h>
 #include <swba/factors/imu_factor.h>
 #include <swba/factors/pose_prior.h>
 #include <swba/smoother/fixed_lag_smoother.h>
@@ -112,6 +113,7 @@ class InertialGraph : smoother::SmootherClient
 	Summary solve(const SolverOptions& s)
 	{
 		const detail::InertialGaugeSnapshot before = gauge_snapshot();
+		anchor_gauge(before);
 		const Summary r = swba::solve(sm_.problem(), s);
 		hold_gauge(before);
 		return r;
@@ -152,7 +154,9 @@ class InertialGraph : smoother::SmootherClient
 	/** The first keyframe's pose: on TiltManifold under the fixed four-DoF gauge. */
 	VariableId add_first_pose(const NavState& x);
 	detail::InertialGaugeSnapshot gauge_snapshot() const;
-	/** Undoes the four-DoF motion since `before` (free gauge only). */
+	/** Anchors the four directions on `before` for the next solve (free gauge only). */
+	void anchor_gauge(const detail::InertialGaugeSnapshot& before);
+	/** Removes the anchor and undoes the four-DoF motion since `before` (free gauge only). */
 	void hold_gauge(const detail::InertialGaugeSnapshot& before);
 	void record(InertialTrajectory& out, const Kf& k, const Matrix6d& covariance) const;
 	/** A covariance block of k's pose in the SE(3) tangent (6×6, or 2×2 on the fixed gauge's TiltManifold). */
@@ -170,6 +174,7 @@ class InertialGraph : smoother::SmootherClient
 	InertialTrajectory* online_ = nullptr;
 	InertialTrajectory* lagged_ = nullptr;
 	detail::InertialGaugeSnapshot before_;  ///< the gauge directions before this update's solve
+	FactorId anchor_ = -1;					 ///< the free gauge's anchor during a solve
 
 	InertialWindowOptions o_;
 	const InertialInput& in_;
@@ -220,9 +225,19 @@ void InertialGraph::add_first(const InertialInitialState& init, const KeyframeDa
 		A.topLeftCorner<3, 3>() = Rt;
 		add_pose_prior(kf, make_pose(init.x), A * init.P.topLeftCorner<6, 6>() * A.transpose());
 	}
-	auto pv = std::make_shared<EuclideanPriorFactor>(Eigen::VectorXd(init.x.v));
-	pv->set_information(init.P.block<3, 3>(6, 6).inverse());
-	sm_.add_factor(pv, {kf.v});
+	if (gauge_ == GaugeMode::Free)
+	{
+		// In the body frame: a prior on the world velocity would inform the heading (|v_h|²/σ_v²).
+		auto pv = std::make_shared<BodyVelocityPriorFactor>(init.x.R.transpose() * init.x.v);
+		pv->set_information(init.x.R.transpose() * init.P.block<3, 3>(6, 6).inverse() * init.x.R);
+		sm_.add_factor(pv, {kf.T, kf.v});
+	}
+	else
+	{
+		auto pv = std::make_shared<EuclideanPriorFactor>(Eigen::VectorXd(init.x.v));
+		pv->set_information(init.P.block<3, 3>(6, 6).inverse());
+		sm_.add_factor(pv, {kf.v});
+	}
 	auto pb = std::make_shared<EuclideanPriorFactor>(Eigen::VectorXd(init.bias));
 	pb->set_information(init.P.block<6, 6>(9, 9).inverse());
 	sm_.add_factor(pb, {kf.b});
@@ -277,14 +292,24 @@ detail::InertialGaugeSnapshot InertialGraph::gauge_snapshot() const
 	detail::InertialGaugeSnapshot s;
 	if (gauge_ != GaugeMode::Free || kfs_.empty()) return s;
 	for (const Kf& k : kfs_)
-		if (sm_.in_prior(k.T)) s.add(k.T, sm_.linearization_point(k.T), k.v, sm_.linearization_point(k.v));
-	if (s.ids.empty()) s.add(kfs_.front().T, sm_.problem().value(kfs_.front().T), kfs_.front().v, sm_.problem().value(kfs_.front().v));
+		if (sm_.in_prior(k.T)) s.add(k.T, sm_.linearization_point(k.T));
+	if (s.ids.empty()) s.add(kfs_.front().T, sm_.problem().value(kfs_.front().T));
 	return s;
+}
+
+void InertialGraph::anchor_gauge(const detail::InertialGaugeSnapshot& before)
+{
+	if (gauge_ != GaugeMode::Free || before.ids.empty()) return;
+	// Straight into the problem, not through the smoother's add_factor: it is no measurement, it is removed
+	// (hold_gauge) before anything is marginalised, and its Jacobian at its own Z needs no first estimate.
+	anchor_ = sm_.problem().add_factor(detail::inertial_gauge_anchor(before), {before.ids.front()});
 }
 
 void InertialGraph::hold_gauge(const detail::InertialGaugeSnapshot& before)
 {
 	if (gauge_ != GaugeMode::Free) return;
+	if (anchor_ >= 0) sm_.problem().remove_factor(anchor_);
+	anchor_ = -1;
 	std::vector<std::pair<VariableId, VariableId>> window;
 	for (const Kf& k : kfs_) window.push_back({k.T, k.v});
 	detail::hold_inertial_gauge(sm_.problem(), before, window);
@@ -307,6 +332,7 @@ void InertialGraph::update(InertialTrajectory& online, InertialTrajectory& lagge
 	online_ = &online;
 	lagged_ = &lagged;
 	before_ = gauge_snapshot();
+	anchor_gauge(before_);
 	sm_.update(*this, request);
 }
 

@@ -4,9 +4,9 @@
  * pose T ∈ SE(3) (SE3Manifold), velocity v ∈ ℝ³ (world), biases b = [b_a; b_g] ∈ ℝ⁶ — constrained by an
  * ImuPreintegrationFactor between consecutive keyframes, a PosePriorFactor per pose prior, a
  * BetweenPoseFactor per odometry increment between consecutive keyframes (increments composed when the
- * odometry is faster than the keyframes) and Euclidean priors on the first velocity and biases. The oldest
- * keyframe leaves with its velocity and biases in FixedLagSmoother::update (the graph is its client; the (J, e,
- * x₀) prior and first-estimate Jacobians unchanged). After each update, an IMU factor whose b_i moved from
+ * odometry is faster than the keyframes) and priors on the first velocity (in the body frame under the free
+ * gauge) and biases. The oldest keyframe leaves with its velocity and biases in FixedLagSmoother::update
+ * (the graph is its client; the (J, e, x₀) prior and first-estimate Jacobians unchanged). After each update, an IMU factor whose b_i moved from
  * its pre-integration's linearisation bias by more than the thresholds is re-integrated and replaced.
  *
  * Gauge: with pose priors the frame is fixed. Without them (IMU + relative poses) x, y, z and yaw are
@@ -43,9 +43,10 @@ struct InertialWindowOptions
 	double marginalization_threshold = 1e-20;
 	/** The four-DoF gauge without pose priors (ignored with them: the priors fix the frame). Prior: the
 	 * first keyframe's pose prior from the odometry holds x, y, z, yaw with σ odometry_pose_sigma. Fixed:
-	 * they are constant (the first pose moves only in pitch and roll). Free: no information on them; LM's
-	 * damping copes and the motion each solve makes along them is undone; no covariance is reported (the
-	 * normal equations are singular). (Default = Prior) */
+	 * they are constant (the first pose moves only in pitch and roll). Free: no information on them (the first
+	 * velocity's prior is in the body frame); each solve anchors them on the marginal prior's keyframe at
+	 * its first estimate (on the first keyframe before anything is marginalised) and undoes what motion is
+	 * left; no covariance is reported (it would be relative to that anchor). (Default = Prior) */
 	GaugeMode gauge = GaugeMode::Prior;
 	/** Recover the newest pose's marginal covariance after each update. (Default = true) */
 	bool covariances = true;
