@@ -149,14 +149,15 @@ swba_cli_case(switch_run 1 REGEX "^swba ape: error: /nonexistent/ref.tum: cannot
 # themselves (the window's joint covariance of the pose and the landmarks) and their readings enter at
 # once: no duplicate landmark, none held by the gate. The causal row takes the window's associations
 # as known IDs: there the gate's odometry-only test holds them and the re-test against the window's
-# covariance lets them in (retest_held), so it too holds none.
+# covariance lets them in (retest_held), so it too holds none. The gate is on (without the robust loss
+# that replaces it by default): these are the gate's mechanisms, and with the gate off nothing is held.
 swba_cli_case(simulate_da_drift 0 REGEX "da_6D_600_seed2\\.rawlog"
   ARGS simulate ${CMAKE_SOURCE_DIR}/share/rawlogs/da_6D_600.ini --seed 2 --out ${_out}/da_drift)
 set_tests_properties(apps.cli.simulate_da_drift PROPERTIES FIXTURES_SETUP da_drift)
 swba_cli_case(association_after_drift 0
   REGEX "window W=10: 782 readings, 0 gated .*causal \\(online W=inf\\): 782 readings, 0 gated .*window W=10: association 100\\.00 % correct .* 20 landmarks for 20 true, 0 duplicate, 0 spurious"
   ARGS run ${_out}/da_drift/da_6D_600_seed2.rawlog --max-steps 120 --windows 10 --causal --no-ekf --no-batch --no-plots
-       --no-progress --out ${_out}/da_drift/run)
+       --gate on --robust-loss none --no-progress --out ${_out}/da_drift/run)
 set_tests_properties(apps.cli.association_after_drift PROPERTIES FIXTURES_REQUIRED da_drift)
 # Nearest neighbour on the same run creates one duplicate landmark (a reading after the drift outside
 # every gate, then confirmed); re-association inside the window merges it back (2 readings moved).
