@@ -76,10 +76,11 @@ eval::Trajectory better_batch(const io::Rawlog& rawlog, estimators::SlidingWindo
 int main(int argc, char** argv)
 try
 {
-	if (argc < 2)
+	if (argc < 2 || std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help")
 	{
-		std::fprintf(stderr, "usage: swba_window_lag_bound RAWLOG [W (30)] [relinearized poses (swba run's)]\n");
-		return 2;
+		std::fprintf(argc < 2 ? stderr : stdout,
+					 "usage: swba_window_lag_bound RAWLOG [W (30)] [relinearized poses (swba run's)]\n");
+		return argc < 2 ? 2 : 0;
 	}
 	const std::string path = argv[1];
 	const int W = argc > 2 ? std::atoi(argv[2]) : 30;
