@@ -100,7 +100,10 @@ TEST(InertialGauge, FreeIsWithinTenPercentOfFixedAfterAFourDofAlignment)
 					"pose moved %.2g m\n",
 					W, free_online, fixed_online, free_lagged, fixed_lagged, drift);
 		EXPECT_LT(free_online, 1.1 * fixed_online) << "W = " << W;
-		if (W >= 20) EXPECT_LT(free_lagged, 1.1 * fixed_lagged) << "W = " << W;
+		if (W >= 20)
+		{
+			EXPECT_LT(free_lagged, 1.1 * fixed_lagged) << "W = " << W;
+		}
 		EXPECT_LT(drift, 1e-3) << "W = " << W;  // the frame stays where it started
 		EXPECT_EQ(free.online.pose_covariances.back(), Matrix6d::Zero());  // singular: not reported
 	}
