@@ -211,6 +211,29 @@ class LaggedCovariance : public ::testing::TestWithParam<PriorOnly>
 {
 };
 
+namespace
+{
+/** The batch's joint covariance of `group` (states x, landmarks l by id). */
+Eigen::MatrixXd batch_covariance(const Batch& b, const std::vector<VariableId>& group, const std::vector<VariableId>& x,
+								 const std::map<int, VariableId>& l)
+{
+	std::vector<int> rows;  // in b.cov: states 0..j, then the landmarks seen
+	for (VariableId v : group)
+	{
+		const auto s = std::find(x.begin(), x.end(), v);
+		if (s != x.end()) rows.push_back(2 * static_cast<int>(s - x.begin()));
+		for (std::size_t k = 0; k < b.landmark_order.size(); k++)
+			if (l.at(b.landmark_order[k]) == v) rows.push_back(2 * static_cast<int>(b.state.size() + k));
+	}
+	Eigen::MatrixXd out(2 * rows.size(), 2 * rows.size());
+	for (std::size_t r = 0; r < rows.size(); r++)
+		for (std::size_t c = 0; c < rows.size(); c++)
+			out.block<2, 2>(2 * static_cast<Eigen::Index>(r), 2 * static_cast<Eigen::Index>(c)) =
+				b.cov.block<2, 2>(rows[r], rows[c]);
+	return out;
+}
+}  // namespace
+
 TEST_P(LaggedCovariance, OfTheLinearTailIsTheBatchMarginal)
 {
 	const Data d = make_data();
@@ -225,23 +248,6 @@ TEST_P(LaggedCovariance, OfTheLinearTailIsTheBatchMarginal)
 	std::set<VariableId> landmark_vars;
 	test::RecordingClient client;
 	client.handling = [&](VariableId v) { return landmark_vars.count(v) > 0 ? GetParam() : PriorOnly::Keep; };
-	// Rows of a group's variables in the batch covariance (states 0..j, then the landmarks seen).
-	const auto batch_block = [&](const Batch& b, const std::vector<VariableId>& group) {
-		std::vector<int> rows;
-		for (VariableId v : group)
-		{
-			const auto s = std::find(x.begin(), x.end(), v);
-			if (s != x.end()) rows.push_back(2 * static_cast<int>(s - x.begin()));
-			for (std::size_t k = 0; k < b.landmark_order.size(); k++)
-				if (l.at(b.landmark_order[k]) == v) rows.push_back(2 * static_cast<int>(b.state.size() + k));
-		}
-		Eigen::MatrixXd out(2 * rows.size(), 2 * rows.size());
-		for (std::size_t r = 0; r < rows.size(); r++)
-			for (std::size_t c = 0; c < rows.size(); c++)
-				out.block<2, 2>(2 * static_cast<Eigen::Index>(r), 2 * static_cast<Eigen::Index>(c)) =
-					b.cov.block<2, 2>(rows[r], rows[c]);
-		return out;
-	};
 	double worst = 0, mean_err = 0;
 	int tail_groups = 0;
 	CovarianceRequest request;
@@ -261,7 +267,7 @@ TEST_P(LaggedCovariance, OfTheLinearTailIsTheBatchMarginal)
 											  .norm());
 		for (std::size_t g = 0; g < request.groups.size(); g++)
 		{
-			const Eigen::MatrixXd want = batch_block(b, request.groups[g]);
+			const Eigen::MatrixXd want = batch_covariance(b, request.groups[g], x, l);
 			worst = std::max(worst, (u.covariance.blocks[g] - want).norm() / want.norm());
 		}
 	}
@@ -270,7 +276,7 @@ TEST_P(LaggedCovariance, OfTheLinearTailIsTheBatchMarginal)
 	for (const auto& [i, v] : l) request.groups[0].push_back(v);
 	const CovarianceResult r = sm.covariances(request);
 	ASSERT_TRUE(r.ok) << r.message;
-	const Eigen::MatrixXd want = batch_block(solve_batch(d, kStates - 1), request.groups[0]);
+	const Eigen::MatrixXd want = batch_covariance(solve_batch(d, kStates - 1), request.groups[0], x, l);
 	const double end = (r.blocks[0] - want).norm() / want.norm();
 	std::printf("[lagged covariance] worst relative error %.2g over %d tail groups, %.2g at the end; tail means %.2g "
 				"from the batch's\n", worst, tail_groups, end, mean_err);
