@@ -5,7 +5,11 @@
  * problem). Such a group is asked of the problem's recovery as the function y = [d_v of its variables]
  * with every conditional substituted (linear_conditional.h): the tail's oldest first, then the store's,
  * then the elimination's (each one's separator holds variables of the later ones or of the problem).
- * The other groups go to the recovery as they are, so their answer is exactly what it was. */
+ * The other groups go to the recovery as they are, so their answer is exactly what it was.
+ * Exact for the linear model the smoother holds; that model is the joint of every factor so far except
+ * with the store: when a state is marginalised, the store's conditional of its variables integrates the
+ * state out (PriorOnlyStore::eliminate) and the state's tail conditional does not condition on them, so
+ * their coupling is lost (doc/window.md, "Re-linearised poses", measures what it costs). */
 #pragma once
 
 #include "linear_tail.h"

@@ -183,7 +183,9 @@ class FixedLagSmoother
 	 * variables, the Gaussian whose mean the smoother reports (the tail's conditionals are linearised at
 	 * their separators' first estimates, the problem at its current values: the same to first order),
 	 * at the cost of rows solves and O(rows · size) per conditional; a group of free variables of the
-	 * problem costs what it did.
+	 * problem costs what it did. With PriorOnly::Store that model is not the full joint: a state that
+	 * leaves while variables are stored keeps no coupling with them (the store integrates it out), so
+	 * its covariance, like its mean, misses what they later learn.
 	 * The marginalisation linearises the factors touching the leaving variables (the prior from its
 	 * known information) at the first estimates; the marginal over the variables they connect to
 	 * replaces them as the new prior, stored around the first estimates of its variables. */
