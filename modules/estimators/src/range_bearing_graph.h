@@ -194,15 +194,14 @@ class RangeBearingGraph
 
 	/** @name Covariances (window_covariance.cpp)
 	 * @{ */
-	/** The covariances of `groups` at the current values (a fresh linearisation, solver options of the
-	 * options). Under the free gauge the system is singular and is held for it: by the initial pose
+	/** The covariances of `groups` at the current values (FixedLagSmoother::covariances: a fresh
+	 * linearisation; a group may name a pose of the linear tail or a stored landmark). Under the free gauge the system is singular and is held for it: by the initial pose
 	 * while it is in the problem (every covariance relative to it, the frame swba run reports a free
 	 * row in), else by the oldest state and moved to the minimum-norm gauge of the global motions
 	 * (the frame hold_gauge keeps). */
 	CovarianceResult covariances(CovarianceRequest request);
-	/** Block `g` of `r` for pose variable `v` in the SE(3) tangent (planar rows embedded; NaN when
-	 * `r` failed). */
-	PoseCovariance pose_covariance(VariableId v, const CovarianceResult& r, std::size_t g) const;
+	/** Block `g` of `r`, a pose's, in the SE(3) tangent (planar rows embedded; NaN when `r` failed). */
+	PoseCovariance pose_covariance(const CovarianceResult& r, std::size_t g) const;
 	/** Landmarks in the state with the covariance of their world position. */
 	std::map<std::int32_t, LandmarkEstimate> landmark_estimates(double* seconds);
 	/** @} */

@@ -9,8 +9,8 @@
 
 #include <algorithm>
 #include <swba/core/timing.h>
-#include <deque>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <set>
 #include <stdexcept>
@@ -24,10 +24,9 @@ struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 	detail::RangeBearingGraph graph;
 	eval::Trajectory online, lagged;
 	std::vector<PoseCovariance> online_cov, lagged_cov;
-	PoseCovariance leaving_cov;  ///< the oldest pose's, from this step's solve (when it leaves)
-	/** The covariances of the poses that left the re-linearised window and are still held (the
-	 * smoother's linear tail), oldest first, as of their leaving it (reported with them at lag W). */
-	std::deque<PoseCovariance> tail_cov;
+	/** The covariance of the pose leaving the window at lag W in this step's update() (from its solve,
+	 * reported by left()). */
+	std::optional<std::pair<VariableId, PoseCovariance>> leaving_cov;
 	std::vector<StepSummary> summaries;
 	std::optional<mrpt::poses::CPose3D> initial_left;  ///< the initial pose's estimate when it left the window
 	bool finished = false;
@@ -43,11 +42,16 @@ struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 	const smoother::FixedLagSmoother& smoother() const { return graph.smoother(); }
 	const SlidingWindowOptions& opt() const { return graph.options(); }
 
-	/** True when the oldest pose leaves the re-linearised window at this step's update(). */
-	bool oldest_leaves() const
+	/** The pose that leaves the window at lag W at this step's update() (−1: none): the oldest
+	 * re-linearised one without a linear tail, else the tail's oldest once the tail is full. */
+	VariableId leaving_pose() const
 	{
 		const int k = opt().relinearized_window();
-		return k > 0 && static_cast<int>(smoother().states().size()) > k;
+		if (k == 0 || static_cast<int>(smoother().states().size()) <= k) return -1;
+		const std::size_t tail = static_cast<std::size_t>(opt().window_size - k);
+		if (tail == 0) return smoother().states().front().var;
+		const auto linear = smoother().linear_states();
+		return linear.size() == tail ? linear.front().var : -1;
 	}
 
 	smoother::PriorOnly prior_only(VariableId v) const override { return graph.prior_only(v); }
@@ -78,22 +82,24 @@ struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 		online.push_back(smoother().states().back().time, graph.pose(smoother().states().back().var));
 	}
 
-	/** The poses whose covariance a step reports: the newest (online) and, when it is about to leave,
-	 * the oldest (lagged). Empty with covariances off. */
+	/** The poses whose covariance a step reports: the newest (online) and the one leaving at lag W
+	 * (lagged; in the linear tail, its covariance in the whole window's model, see
+	 * FixedLagSmoother::update). Empty with covariances off. */
 	CovarianceRequest covariance_request() const
 	{
 		CovarianceRequest r;
 		if (!opt().covariances) return r;
 		r.groups.push_back({smoother().states().back().var});
-		if (oldest_leaves()) r.groups.push_back({smoother().states().front().var});
+		if (const VariableId v = leaving_pose(); v >= 0) r.groups.push_back({v});
 		return r;
 	}
 
 	void keep_covariances(const CovarianceResult& r)
 	{
 		sum->covariance_seconds = r.seconds;
-		online_cov.push_back(graph.pose_covariance(smoother().states().back().var, r, 0));
-		if (oldest_leaves()) leaving_cov = graph.pose_covariance(smoother().states().front().var, r, 1);
+		online_cov.push_back(graph.pose_covariance(r, 0));
+		leaving_cov.reset();
+		if (const VariableId v = leaving_pose(); v >= 0) leaving_cov.emplace(v, graph.pose_covariance(r, 1));
 	}
 
 	/** The landmark policy at the oldest pose (step o) leaving: landmarks anchored there are
@@ -136,7 +142,6 @@ struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 		const std::set<VariableId>& out = leaving_with_oldest;
 		sum->down_weighted = graph.count_down_weighted(graph.reading_factors_leaving(o, out));
 		graph.expire_readings_at(o);
-		if (opt().covariances) tail_cov.push_back(leaving_cov);
 		if (opt().relinearized_window() < opt().window_size) graph.hold_tail_readings(o);
 		if (opt().policy == LandmarkPolicy::Map) sum->landmarks_not_mapped = graph.keep_in_map(out);
 		return out;
@@ -154,15 +159,12 @@ struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 	void left(const smoother::TimedState& s, const std::vector<double>& value) override
 	{
 		if (opt().relinearized_window() < opt().window_size) graph.release_tail_readings();
-		PoseCovariance cov;
-		if (opt().covariances)
-		{
-			cov = tail_cov.front();
-			tail_cov.pop_front();
-		}
 		const mrpt::poses::CPose3D pose = SE3Manifold::to_pose(value.data());
 		lagged.push_back(s.time, pose);
-		if (opt().covariances) lagged_cov.push_back(cov);
+		if (opt().covariances)
+			lagged_cov.push_back(leaving_cov && leaving_cov->first == s.var
+									 ? leaving_cov->second
+									 : PoseCovariance::Constant(std::numeric_limits<double>::quiet_NaN()));
 		if (s.var == graph.poses().front().var) initial_left = pose;
 	}
 
@@ -199,13 +201,13 @@ struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 		if (graph.poses().empty()) return;  // no step processed (model still undecided)
 		graph.finish_counts();
 		const VariableId initial = graph.poses().front().var;
-		for (const smoother::LinearState& s : smoother().linear_states())
-		{
-			if (s.var != initial) lagged.push_back(s.time, SE3Manifold::to_pose(s.value.data()));
-			if (opt().covariances && s.var != initial) lagged_cov.push_back(tail_cov.front());
-			if (opt().covariances) tail_cov.pop_front();
-		}
 		CovarianceRequest request;
+		for (const smoother::LinearState& s : smoother().linear_states())
+			if (s.var != initial)
+			{
+				lagged.push_back(s.time, SE3Manifold::to_pose(s.value.data()));
+				request.groups.push_back({s.var});
+			}
 		for (const auto& s : smoother().states())
 			if (s.var != initial)
 			{
@@ -214,8 +216,7 @@ struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 			}
 		if (!opt().covariances) return;
 		const CovarianceResult r = graph.covariances(request);
-		for (std::size_t g = 0; g < request.groups.size(); g++)
-			lagged_cov.push_back(graph.pose_covariance(request.groups[g][0], r, g));
+		for (std::size_t g = 0; g < request.groups.size(); g++) lagged_cov.push_back(graph.pose_covariance(r, g));
 	}
 };
 
@@ -325,7 +326,7 @@ void batch_covariances(detail::RangeBearingGraph& graph, BatchResult& r)
 	for (std::size_t k = 1; k < graph.poses().size(); k++) request.groups.push_back({graph.poses()[k].var});
 	const CovarianceResult c = graph.covariances(request);
 	for (std::size_t g = 0; g < request.groups.size(); g++)
-		r.covariances.push_back(graph.pose_covariance(request.groups[g][0], c, g));
+		r.covariances.push_back(graph.pose_covariance(c, g));
 	double landmark_seconds = 0;
 	r.landmarks = graph.landmark_estimates(&landmark_seconds);
 	r.covariance_seconds = c.seconds + landmark_seconds;

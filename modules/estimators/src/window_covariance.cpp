@@ -54,7 +54,7 @@ CovarianceResult RangeBearingGraph::covariances(CovarianceRequest request)
 	CovarianceResult r;
 	try
 	{
-		r = marginal_covariance(problem, request, opt_.solver);
+		r = smoother_.covariances(request);
 	}
 	catch (const std::exception& e)
 	{
@@ -65,10 +65,11 @@ CovarianceResult RangeBearingGraph::covariances(CovarianceRequest request)
 	return r;
 }
 
-PoseCovariance RangeBearingGraph::pose_covariance(VariableId v, const CovarianceResult& r, std::size_t g) const
+PoseCovariance RangeBearingGraph::pose_covariance(const CovarianceResult& r, std::size_t g) const
 {
 	if (!r.ok || g >= r.blocks.size()) return PoseCovariance::Constant(std::numeric_limits<double>::quiet_NaN());
-	const auto c = base_coordinates(*smoother_.problem().variable(v).manifold);
+	// Every pose has the model's manifold (one of the linear tail is no longer in the problem).
+	const auto c = model_ == PoseModel::Planar ? planar_pose_coordinates() : base_coordinates(SE3Manifold());
 	return embed(r.blocks[g], c, c, 6);
 }
 
@@ -117,8 +118,7 @@ Eigen::MatrixXd RangeBearingGraph::world_position_jacobian(const Landmark& lm) c
 std::map<std::int32_t, LandmarkEstimate> RangeBearingGraph::estimates_of(const std::vector<const Landmark*>& lms,
 																		 double* seconds)
 {
-	smoother_.release_prior_only();  // stored prior-only landmarks are constant in the problem
-	CovarianceRequest request;
+	CovarianceRequest request;  // naming stored prior-only landmarks, it brings them back into the prior
 	const std::vector<const Landmark*>& order = lms;
 	for (const Landmark* l : lms)
 	{

@@ -8,6 +8,7 @@
 #include "solver_context.h"
 
 #include <Eigen/Dense>
+#include <numeric>
 #include <stdexcept>
 
 namespace swba
@@ -67,8 +68,10 @@ class Recovery
 			project_to_gauge(groups[g]);
 			out.blocks.push_back(0.5 * (groups[g].S + groups[g].S.transpose()));
 		}
+		solve_functions(out);
 		out.ok = true;
 		for (const auto& b : out.blocks) out.ok = out.ok && b.allFinite();
+		for (const auto& f : out.functions) out.ok = out.ok && f.allFinite();
 		if (!out.ok) out.message = "a covariance is not finite";
 		return out;
 	}
@@ -147,6 +150,55 @@ class Recovery
 		}
 	}
 
+	/** Rows of a function (checks that every block has them and its variable's tangent columns). */
+	int function_rows(const LinearFunction& f) const
+	{
+		const int m = f.empty() ? 0 : static_cast<int>(f.begin()->second.rows());
+		for (const auto& [v, A] : f)
+			if (A.rows() != m || A.cols() != slot(v).tangent)
+				throw std::invalid_argument("CovarianceRequest: a function's block has the wrong size");
+		return m;
+	}
+
+	/** The functions' covariances A Σ Aᵀ (A Q Σ Qᵀ Aᵀ with gauge directions): the columns Σ Aᵀ of all
+	 * of them in one pass through the factor. */
+	void solve_functions(CovarianceResult& out)
+	{
+		std::vector<int> rows;
+		for (const auto& f : request_.functions) rows.push_back(function_rows(f));
+		Eigen::MatrixXd X = Eigen::MatrixXd::Zero(dim_, std::accumulate(rows.begin(), rows.end(), 0));
+		std::vector<char> back(static_cast<std::size_t>(ctx_.program().num_elim()), 0);
+		for (std::size_t i = 0, c = 0; i < rows.size(); c += static_cast<std::size_t>(rows[i++]))
+			for (const auto& [v, A] : request_.functions[i])
+			{
+				const Slot s = slot(v);
+				if (s.offset < 0) continue;
+				if (s.elim >= 0) back[static_cast<std::size_t>(s.elim)] = 1;
+				X.block(s.offset, static_cast<Eigen::Index>(c), s.tangent, rows[i]) = A.transpose();
+			}
+		if (X.cols() > 0) ctx_.eliminator().solve_factorized(X, back);
+		out.solves += static_cast<int>(X.cols());
+		for (std::size_t i = 0, c = 0; i < rows.size(); c += static_cast<std::size_t>(rows[i++]))
+		{
+			const Eigen::Index m = rows[i];
+			Eigen::MatrixXd S = Eigen::MatrixXd::Zero(m, m), Nf = Eigen::MatrixXd::Zero(m, N_.cols()), Gf = Nf;
+			for (const auto& [v, A] : request_.functions[i])
+			{
+				const Slot s = slot(v);
+				if (s.offset >= 0)
+				{
+					S += A * X.block(s.offset, static_cast<Eigen::Index>(c), s.tangent, m);
+					if (N_.cols() > 0) Nf += A * N_.middleRows(s.offset, s.tangent);
+					if (N_.cols() > 0) Gf += A * G_.middleRows(s.offset, s.tangent);
+				}
+				else if (auto it = request_.gauge.find(v); it != request_.gauge.end())
+					Nf += A * it->second;
+			}
+			if (N_.cols() > 0) S += gauge_correction(Nf, Gf);
+			out.functions.push_back(0.5 * (S + S.transpose()));
+		}
+	}
+
 	/** G = Σ N (over the whole vector) and the k × k matrices M = (NᵀN)⁺, NᵀG. */
 	void gauge_solves(CovarianceResult& out)
 	{
@@ -185,8 +237,14 @@ class Recovery
 			else if (auto it = request_.gauge.find(g.vars[i]); it != request_.gauge.end())
 				Ng.middleRows(g.at[i], t) = it->second;  // a held variable: moved by the gauge like the others
 		}
+		g.S += gauge_correction(Ng, Gg);
+	}
+
+	/** Q Σ Qᵀ − Σ for the rows Ng = A N, Gg = A G of a block (see project_to_gauge). */
+	Eigen::MatrixXd gauge_correction(const Eigen::MatrixXd& Ng, const Eigen::MatrixXd& Gg) const
+	{
 		const Eigen::MatrixXd NM = Ng * M_;
-		g.S += -NM * Gg.transpose() - Gg * NM.transpose() + NM * NtG_ * NM.transpose();
+		return -NM * Gg.transpose() - Gg * NM.transpose() + NM * NtG_ * NM.transpose();
 	}
 
 	SolverContext& ctx_;

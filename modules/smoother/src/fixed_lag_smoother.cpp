@@ -2,6 +2,7 @@
 
 #include "dense_normal_system.h"
 #include "linear_tail.h"
+#include "model_covariance.h"
 #include "prior_only_elimination.h"
 #include "prior_only_store.h"
 
@@ -31,7 +32,15 @@ void SmootherClient::left(const TimedState&, const std::vector<double>&) {}
 
 bool FixedLagSmoother::in_prior(VariableId v) const { return prior_.index_of(v) >= 0 || store_->contains(v); }
 
-void FixedLagSmoother::release_prior_only() { store_->release(problem_, prior_, store_->variables()); }
+CovarianceResult FixedLagSmoother::covariances(const CovarianceRequest& request)
+{
+	bool stored = false;
+	for (const auto& g : request.groups)
+		for (VariableId v : g) stored = stored || store_->contains(v);
+	if (stored) store_->release(problem_, prior_, store_->variables());
+	const detail::ModelCovariance model(request, problem_, *tail_, *store_, nullptr);
+	return model.answer(marginal_covariance(problem_, model.problem_request(), opt_.solver));
+}
 
 int FixedLagSmoother::sync_store(const SmootherClient& client)
 {
@@ -129,9 +138,15 @@ UpdateSummary FixedLagSmoother::solve(const SmootherClient& client, const Covari
 	out.prior_only_eliminated = sync_store(client);
 	detail::PriorOnlyElimination elimination;
 	const auto eliminable = [&](VariableId v) { return client.prior_only(v) == PriorOnly::Eliminate; };
+	// The elimination's covariance, when a group names a variable it may hold or a tail's separator may.
+	bool held = false;
+	for (const auto& g : covariance.groups)
+		for (VariableId v : g) held = held || !problem_.has_variable(v) || eliminable(v);
 	const bool reduced =
-		prior_.installed() && elimination.begin(problem_, prior_, opt_.marginalization_threshold, eliminable);
-	out.solver = swba::solve(problem_, opt_.solver, covariance, &out.covariance);
+		prior_.installed() && elimination.begin(problem_, prior_, opt_.marginalization_threshold, eliminable, held);
+	const detail::ModelCovariance model(covariance, problem_, *tail_, *store_, reduced ? &elimination : nullptr);
+	out.solver = swba::solve(problem_, opt_.solver, model.problem_request(), &out.covariance);
+	out.covariance = model.answer(std::move(out.covariance));
 	if (reduced)
 	{
 		out.prior_only_eliminated += elimination.num_eliminated();
@@ -236,7 +251,11 @@ void FixedLagSmoother::push_linear_state(detail::TailConditional c, const std::s
 	c.time = states_.front().time;
 	c.state = states_.front().var;
 	for (VariableId v : marg)
-		if (problem_.is_constant(v)) c.constants[v] = problem_.variable(v).value;
+		if (problem_.is_constant(v))
+		{
+			c.constants[v] = problem_.variable(v).value;
+			c.constant_dims[v] = problem_.variable(v).manifold->tangent_size();
+		}
 	tail_->push(std::move(c));
 }
 

@@ -28,6 +28,7 @@ TailConditional make_tail_conditional(const Problem& problem, const std::vector<
 	{
 		const auto& var = problem.variable(v);
 		c.vars.push_back(v);
+		c.dims.push_back(var.manifold->tangent_size());
 		c.manifolds.push_back(var.manifold);
 		c.x_lin.push_back(var.value);
 		c.value.push_back(var.value);

@@ -16,6 +16,8 @@
  * columns of every conditional that holds the old variable, as it rewrites the prior's. */
 #pragma once
 
+#include "linear_conditional.h"
+
 #include <swba/nonlinear/problem.h>
 #include <swba/smoother/marginal_prior.h>
 
@@ -28,25 +30,22 @@
 
 namespace swba::smoother::detail
 {
-/** One state's conditional. */
-struct TailConditional
+/** One state's conditional: LinearConditional's vars are the variables that left with the state (the
+ * state's own included unless it was constant), rows of k and K in this order; its separator the
+ * variables they were connected to, columns of K; its covariance H_MM⁻¹. */
+struct TailConditional : LinearConditional
 {
 	double time = 0;
 	VariableId state = -1;
-	/** The variables that left with the state (the state's own included unless it was constant), their
-	 * manifolds, linearisation points and current estimates; rows of k and K in this order. */
-	std::vector<VariableId> vars;
+	/** Of each of `vars`: manifold, linearisation point and current estimate. */
 	std::vector<std::shared_ptr<const Manifold>> manifolds;
 	std::vector<std::vector<double>> x_lin, value;
-	/** Constant variables that left with the state (a fixed gauge's first pose): their values. */
+	/** Constant variables that left with the state (a fixed gauge's first pose): their values and
+	 * tangent sizes (a covariance of them is zero). */
 	std::map<VariableId, std::vector<double>> constants;
-	/** The separator: variables, linearisation points and tangent sizes; columns of K in this order. */
-	std::vector<VariableId> sep;
-	std::vector<std::vector<double>> sep_lin;
-	std::vector<int> sep_dims;
+	std::map<VariableId, int> constant_dims;
+	std::vector<std::vector<double>> sep_lin;  ///< the separator's linearisation points
 	Eigen::VectorXd k;
-	Eigen::MatrixXd K;
-	Eigen::MatrixXd covariance;  ///< H_MM⁻¹: of d_M given S
 };
 
 class LinearTail

@@ -5,6 +5,7 @@
 #include <swba/factors/linear_prior.h>
 #include <swba/linear/marginal.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace swba::smoother::detail
@@ -16,6 +17,7 @@ bool PriorOnlyElimination::split(const Problem& problem, const MarginalPrior& pr
 	const std::vector<std::vector<double>>& x_lin = prior.linearization_points();
 	active_.clear();
 	passive_.clear();
+	passive_dims_.clear();
 	passive_lin_.clear();
 	amanifolds_.clear();
 	alin_.clear();
@@ -29,13 +31,14 @@ bool PriorOnlyElimination::split(const Problem& problem, const MarginalPrior& pr
 	for (std::size_t i : part.first)
 	{
 		passive_.push_back(vars[i]);
+		passive_dims_.push_back(problem.variable(vars[i]).manifold->tangent_size());
 		passive_lin_.push_back(x_lin[i]);
 	}
 	int offset = 0;
 	for (std::size_t i : part.second)
 	{
 		const auto& manifold = problem.variable(vars[i]).manifold;
-		active_.push_back({vars[i], offset, x_lin[i]});
+		active_.push_back({vars[i], offset, manifold->tangent_size(), x_lin[i]});
 		amanifolds_.push_back(manifold);
 		alin_.push_back(x_lin[i]);
 		offset += manifold->tangent_size();
@@ -46,13 +49,13 @@ bool PriorOnlyElimination::split(const Problem& problem, const MarginalPrior& pr
 }
 
 bool PriorOnlyElimination::begin(Problem& problem, MarginalPrior& prior, double threshold,
-								 const std::function<bool(VariableId)>& eliminable)
+								 const std::function<bool(VariableId)>& eliminable, bool with_covariance)
 {
 	if (!split(problem, prior, eliminable)) return false;
 	PartitionedNormalEquations s = prior.has_information()
 		? partition_normal_equations(prior.H(), prior.b(), pcols_, acols_)
 		: partition_square_root(prior.J(), prior.e(), pcols_, acols_);
-	reduce(problem, prior, eliminate(std::move(s), threshold));
+	reduce(problem, prior, eliminate(std::move(s), threshold, with_covariance));
 	return true;
 }
 
@@ -60,6 +63,7 @@ void PriorOnlyElimination::reduce(Problem& problem, MarginalPrior& prior, Gaussi
 {
 	K_ = std::move(c.conditional.K);
 	k_ = std::move(c.conditional.k);
+	C_ = std::move(c.conditional.covariance);
 	prior.uninstall(problem);
 	for (VariableId v : passive_) problem.set_constant(v, true);
 	const MarginalizationResult& red = c.marginal;
@@ -97,5 +101,26 @@ void PriorOnlyElimination::end(Problem& problem, MarginalPrior& prior)
 	passive_.clear();
 	passive_lin_.clear();
 	prior.install(problem);
+}
+
+bool PriorOnlyElimination::holds(VariableId v) const
+{
+	return std::find(passive_.begin(), passive_.end(), v) != passive_.end();
+}
+
+LinearConditional PriorOnlyElimination::conditional() const
+{
+	if (C_.rows() != K_.rows()) throw std::logic_error("PriorOnlyElimination: begun without the covariance");
+	LinearConditional c;
+	c.vars = passive_;
+	c.dims = passive_dims_;
+	for (const auto& a : active_)
+	{
+		c.sep.push_back(a.var);
+		c.sep_dims.push_back(a.dim);
+	}
+	c.K = K_;
+	c.covariance = C_;
+	return c;
 }
 }  // namespace swba::smoother::detail

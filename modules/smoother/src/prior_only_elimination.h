@@ -13,6 +13,8 @@
  * of it. */
 #pragma once
 
+#include "linear_conditional.h"
+
 #include <swba/nonlinear/problem.h>
 #include <swba/smoother/marginal_prior.h>
 
@@ -30,15 +32,21 @@ class PriorOnlyElimination
 	 * are not constant and have no factor but the prior, uninstalls the prior, adds its marginal over the
 	 * other variables and makes those prior-only variables constant; returns true. Otherwise changes
 	 * nothing and returns false. The prior's information form is used when known, else (J, e).
-	 * `threshold`: relative pivot cut as in swba::marginalize. */
+	 * `threshold`: relative pivot cut as in swba::marginalize. `with_covariance`: keep the conditional's
+	 * covariance for conditional(). */
 	bool begin(Problem& problem, MarginalPrior& prior, double threshold,
-			   const std::function<bool(VariableId)>& eliminable);
+			   const std::function<bool(VariableId)>& eliminable, bool with_covariance = false);
 	/** After the solve: sets the prior-only variables to their conditional minimiser given the others,
 	 * makes them variable again, removes the reduced prior factor and re-installs the full prior. */
 	void end(Problem& problem, MarginalPrior& prior);
 
 	/** Variables eliminated by the last begin(). */
 	int num_eliminated() const { return static_cast<int>(passive_.size()); }
+	/** Between begin() and end(): v is held out of the solve. */
+	bool holds(VariableId v) const;
+	/** Between begin(…, with_covariance) and end(): the conditional of the held-out variables given the
+	 * prior's others. */
+	LinearConditional conditional() const;
 
    private:
 	/** Splits the prior's variables; false when none is prior-only. Fills pcols/acols (scalar columns). */
@@ -53,13 +61,16 @@ class PriorOnlyElimination
 	{
 		VariableId var;
 		int offset;  ///< in δa
+		int dim;
 		std::vector<double> x_lin;
 	};
 	std::vector<Active> active_;
 	std::vector<VariableId> passive_;
+	std::vector<int> passive_dims_;
 	std::vector<std::vector<double>> passive_lin_;
 	Eigen::MatrixXd K_;  ///< δp = k − K δa
 	Eigen::VectorXd k_;
+	Eigen::MatrixXd C_;  ///< the conditional's covariance (with_covariance)
 	FactorId reduced_factor_ = -1;
 };
 }  // namespace swba::smoother::detail

@@ -26,6 +26,8 @@
  * K is kept by active variable (a block of columns each), so the prior may reorder its variables. */
 #pragma once
 
+#include "linear_conditional.h"
+
 #include <swba/core/manifold.h>
 #include <swba/nonlinear/problem.h>
 #include <swba/smoother/marginal_prior.h>
@@ -70,6 +72,10 @@ class PriorOnlyStore
 	/** Sets every stored variable to its conditional mean x_lin ⊞ (k − K d_a) at the prior's variables'
 	 * current values in `problem`. */
 	void set_values(Problem& problem, const MarginalPrior& prior) const;
+
+	/** The conditional of the stored variables `vars` given the prior's other variables (its
+	 * covariance and K; prior_only_store_conditional.cpp). */
+	LinearConditional conditional(const std::vector<VariableId>& vars) const;
 
 	/** Empties the store (its variables are left as they are in the problem). */
 	void clear() { *this = PriorOnlyStore(); }

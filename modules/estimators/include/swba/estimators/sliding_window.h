@@ -271,10 +271,10 @@ class SlidingWindowEstimator
 	/** Each pose as estimated when it left the window (complete after finish()). */
 	const eval::Trajectory& lagged_trajectory() const;
 	/** The marginal covariance of each pose of online_trajectory() / lagged_trajectory() (same order) as
-	 * the window had it at that moment: right after the step's solve / when the pose left the
-	 * re-linearised poses (all W with relinearized_poses = 0; with fewer, an upper bound of its covariance
-	 * at lag W, see doc/window.md; the re-linearised poses flushed by finish(): at the final state). Empty
-	 * with options().covariances off. */
+	 * the window had it at that moment: right after the step's solve / when the pose left the window at
+	 * lag W, in the window's model (the re-linearised poses' problem times the linear tail's
+	 * conditionals, doc/window.md "Re-linearised poses"; the poses flushed by finish(): at the final
+	 * state). Empty with options().covariances off. */
 	const std::vector<PoseCovariance>& online_covariances() const;
 	const std::vector<PoseCovariance>& lagged_covariances() const;
 	/** The landmarks in the state with their marginal covariance at the current estimate (one

@@ -24,18 +24,25 @@
 
 namespace swba
 {
+/** A linear function y = Σ_v A_v δ_v of the variables' tangent coordinates: A_v (rows × tangent size of
+ * v) by variable, every block with the same rows; a constant variable's block counts as zero. */
+using LinearFunction = std::map<VariableId, Eigen::MatrixXd>;
+
 struct CovarianceRequest
 {
 	/** One joint covariance per group, over its variables' tangent coordinates in the listed order
 	 * (a single variable: its marginal). */
 	std::vector<std::vector<VariableId>> groups;
+	/** One covariance Cov(y) = A Σ Aᵀ per function: rows(A) solves, however many variables A spans
+	 * (a group over them would cost one solve per tangent coordinate). */
+	std::vector<LinearFunction> functions;
 	/** Optional gauge directions N_v (tangent × k) of every non-constant variable: when given, the
 	 * covariances are moved to the minimum-norm gauge Nᵀδ = 0 along these directions,
 	 * Σ_N = Q Σ Qᵀ with Q = I − N (NᵀN)⁻¹ Nᵀ (exact when H N = 0: the problem is held by constant
 	 * variables only, whose rows of N count as zero displacement). k extra solves. */
 	std::map<VariableId, Eigen::MatrixXd> gauge;
 
-	bool empty() const { return groups.empty(); }
+	bool empty() const { return groups.empty() && functions.empty(); }
 };
 
 struct CovarianceResult
@@ -43,7 +50,8 @@ struct CovarianceResult
 	/** False when H is not positive definite over the non-constant variables (blocks then empty). */
 	bool ok = false;
 	std::string message;
-	std::vector<Eigen::MatrixXd> blocks;  ///< per group
+	std::vector<Eigen::MatrixXd> blocks;     ///< per group
+	std::vector<Eigen::MatrixXd> functions;  ///< per function
 	int solves = 0;                       ///< solves against the factor
 	double seconds = 0;                   ///< factorisation + solves (+ linearisation for marginal_covariance)
 };

@@ -55,7 +55,7 @@ enum class PriorOnly
 	/** kept out of the prior as its conditional given the prior's other variables, updated at each
 	 * marginalisation (a step costs O(their dimension²) instead of its cube, see prior_only_store.h);
 	 * constant in the problem, at its conditional mean after each update(), until it gains a factor or
-	 * release_prior_only() */
+	 * covariances() asks for it */
 	Store,
 };
 
@@ -175,8 +175,17 @@ class FixedLagSmoother
 
 	/** The step: one LM solve of the problem with options().solver (the prior-only variables handled
 	 * as client.prior_only() says; the covariances of `covariance` recovered from the solve's last
-	 * linearisation, with PriorOnly::Eliminate variables eliminated: the others' exact marginal, zero
-	 * for them), then the client's hooks and the marginalisation of what leaves (see SmootherClient).
+	 * linearisation), then the client's hooks and the marginalisation of what leaves (see SmootherClient).
+	 * A group of `covariance` may name any variable of the model the smoother holds: the problem's, the
+	 * prior-only ones held out of the solve (PriorOnly::Store, Eliminate) and the linear tail's
+	 * (linear_states(), e.g. the state that leaves the smoother at this update()). Its covariance is
+	 * then that of the solve's problem times the Gaussian conditionals of the tail and of the held-out
+	 * variables, the Gaussian whose mean the smoother reports (the tail's conditionals are linearised at
+	 * their separators' first estimates, the problem at its current values: the same to first order),
+	 * at the cost of rows solves and O(rows · size) per conditional; a group of free variables of the
+	 * problem costs what it did. With PriorOnly::Store that model is not the full joint: a state that
+	 * leaves while variables are stored keeps no coupling with them (the store integrates it out), so
+	 * its covariance, like its mean, misses what they later learn.
 	 * The marginalisation linearises the factors touching the leaving variables (the prior from its
 	 * known information) at the first estimates; the marginal over the variables they connect to
 	 * replaces them as the new prior, stored around the first estimates of its variables. */
@@ -195,9 +204,11 @@ class FixedLagSmoother
 	 * estimate (FEJ on). The caller then replaces old_var in the problem. */
 	bool change_prior_variable(VariableId old_var, const std::vector<VariableId>& others,
 							   const std::function<VariableChange(const PriorPoints&)>& make);
-	/** Brings every variable the prior-only store holds back into prior() (before a covariance of them
-	 * is asked for); the next update() stores again those still only the prior touches. */
-	void release_prior_only();
+	/** The covariances of `request` at the current values (a fresh linearisation and factorisation, as
+	 * swba::marginal_covariance with options().solver), its groups naming variables of the whole model
+	 * as in update(). A group naming a variable of the prior-only store first brings every stored
+	 * variable back into prior() (the next update() stores again those still only the prior touches). */
+	CovarianceResult covariances(const CovarianceRequest& request);
 
    private:
 	FixedLagSmootherOptions opt_;
