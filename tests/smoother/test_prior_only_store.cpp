@@ -121,15 +121,24 @@ std::vector<int> add_step(FixedLagSmoother& sm, const Data& d, int j, std::vecto
 		}
 	return read;
 }
+
+/** A smoother of `window` states (`relinearized` re-linearised; 0 = all) whose updates converge to
+ * rounding, so that its estimates and covariances compare with the batch's. */
+FixedLagSmootherOptions store_test_options(int window, int relinearized = 0)
+{
+	FixedLagSmootherOptions opt;
+	opt.window = window;
+	opt.relinearized = relinearized;
+	opt.solver.max_iterations = 50;
+	opt.solver.function_tolerance = opt.solver.gradient_tolerance = opt.solver.parameter_tolerance = 1e-15;
+	return opt;
+}
 }  // namespace
 
 TEST(PriorOnlyStore, KeepsTheExactSolutionWhileLandmarksLeaveAndReturn)
 {
 	const Data d = make_data();
-	FixedLagSmootherOptions opt;
-	opt.window = kLag;
-	opt.solver.max_iterations = 50;
-	opt.solver.function_tolerance = opt.solver.gradient_tolerance = opt.solver.parameter_tolerance = 1e-15;
+	const FixedLagSmootherOptions opt = store_test_options(kLag);
 	FixedLagSmoother sm(opt);
 	std::vector<VariableId> x;
 	std::map<int, VariableId> l;
@@ -237,11 +246,7 @@ Eigen::MatrixXd batch_covariance(const Batch& b, const std::vector<VariableId>& 
 TEST_P(LaggedCovariance, OfTheLinearTailIsTheBatchMarginal)
 {
 	const Data d = make_data();
-	FixedLagSmootherOptions opt;
-	opt.window = 7;
-	opt.relinearized = 2;
-	opt.solver.max_iterations = 50;
-	opt.solver.function_tolerance = opt.solver.gradient_tolerance = opt.solver.parameter_tolerance = 1e-15;
+	const FixedLagSmootherOptions opt = store_test_options(7, 2);
 	FixedLagSmoother sm(opt);
 	std::vector<VariableId> x;
 	std::map<int, VariableId> l;
