@@ -189,3 +189,53 @@ TEST_P(ConstantVelocityChain, WindowEstimatesEqualTheBatchSolutionAfterMarginali
 }
 
 INSTANTIATE_TEST_SUITE_P(Tail, ConstantVelocityChain, ::testing::Values(0, 3));
+
+namespace
+{
+/** The chain, keeping its oldest re-linearised state whenever the client says so: here every state of
+ * an odd step while it is among the newest `keep_span` (a stand-in for readings whose weight is still in
+ * question). */
+struct KeepingChain : ChainEstimator
+{
+	using ChainEstimator::ChainEstimator;
+	int newest = -1, keep_span = 6, kept = 0;
+	bool keep_relinearized(const TimedState& oldest) override
+	{
+		const int k = static_cast<int>(std::lround(oldest.time / kDt));
+		const bool keep = k % 2 == 1 && newest - k < keep_span;
+		kept += keep;
+		return keep;
+	}
+};
+}  // namespace
+
+// States the client keeps re-linearised stay beyond options().relinearized, the tail gives way, no more
+// than `window` states are ever held, every state leaves at lag W in order, and (the model being
+// linear-Gaussian) the held states still equal the batch solution.
+TEST(ConstantVelocityChainKeeping, KeptStatesStayWithinTheWindowAndLeaveAtLagW)
+{
+	FixedLagSmootherOptions o;
+	o.window = 8;
+	o.relinearized = 2;
+	o.solver = tight();
+	KeepingChain est(o);
+	std::size_t most_relinearized = 0;
+	for (int k = 0; k < kChainSteps; k++)
+	{
+		est.add_step(k);
+		est.newest = k;
+		est.sm.update(est);
+		most_relinearized = std::max(most_relinearized, est.sm.states().size());
+		EXPECT_LE(est.sm.states().size() + est.sm.linear_states().size(), 8u) << "step " << k;
+	}
+	EXPECT_GT(est.kept, 0);
+	EXPECT_GT(most_relinearized, 3u);  // kept beyond the two re-linearised states and the new one
+	ASSERT_EQ(est.lagged.size(), static_cast<std::size_t>(kChainSteps - 8));
+	for (std::size_t i = 0; i < est.lagged.size(); i++) EXPECT_DOUBLE_EQ(est.lagged[i].time, i * kDt);
+	const std::vector<Eigen::Vector2d> batch = batch_solution();
+	for (const TimedState& s : est.sm.states())
+	{
+		const auto i = static_cast<std::size_t>(std::find(est.x.begin(), est.x.end(), s.var) - est.x.begin());
+		EXPECT_LT((Eigen::Map<const Eigen::Vector2d>(est.sm.problem().value(s.var)) - batch[i]).norm(), 1e-9);
+	}
+}

@@ -274,11 +274,11 @@ void RangeBearingGraph::set_reading_loss(std::shared_ptr<const LossFunction> los
 		}
 }
 
-int RangeBearingGraph::count_down_weighted(const std::set<FactorId>& factors) const
+std::vector<double> RangeBearingGraph::robust_squared_residuals(const std::set<FactorId>& factors) const
 {
-	if (!loss_) return 0;
+	std::vector<double> out;
+	if (!loss_) return out;
 	const Problem& problem = smoother_.problem();
-	int n = 0;
 	for (FactorId f : factors)
 	{
 		const auto& fe = problem.factor(f);
@@ -286,10 +286,15 @@ int RangeBearingGraph::count_down_weighted(const std::set<FactorId>& factors) co
 		std::vector<const double*> x;
 		for (VariableId v : fe.variables) x.push_back(problem.value(v));
 		Eigen::VectorXd r(fe.factor->residual_dim());
-		if (!fe.factor->evaluate_whitened(x.data(), r.data(), nullptr)) continue;
-		if (r.squaredNorm() > robust_scale_sq_) n++;
+		if (fe.factor->evaluate_whitened(x.data(), r.data(), nullptr)) out.push_back(r.squaredNorm());
 	}
-	return n;
+	return out;
+}
+
+int RangeBearingGraph::count_down_weighted(const std::set<FactorId>& factors) const
+{
+	const std::vector<double> s = robust_squared_residuals(factors);
+	return static_cast<int>(std::count_if(s.begin(), s.end(), [this](double v) { return v > robust_scale_sq_; }));
 }
 
 std::set<FactorId> RangeBearingGraph::reading_factors_leaving(std::size_t k, const std::set<VariableId>& leaving) const

@@ -127,6 +127,9 @@ class RangeBearingGraph
 	 * a (‖r‖² > a² = χ²_dof(robust_probability), dof = reading_dof()) at the current values: Huber's weight is < 1 there and
 	 * Cauchy's < 1/2 (Cauchy's weight is below 1 for every non-zero residual, so "< 1" would count all). */
 	int count_down_weighted(const std::set<FactorId>& factors) const;
+	/** The whitened squared residuals ‖r‖² of the readings among `factors` with a robust loss, at the
+	 * current values (readings that cannot be evaluated there are left out). */
+	std::vector<double> robust_squared_residuals(const std::set<FactorId>& factors) const;
 	/** The reading factors of pose step `k` and of the landmarks `leaving` (what marginalising k takes). */
 	std::set<FactorId> reading_factors_leaving(std::size_t k, const std::set<VariableId>& leaving) const;
 	/** Counts so far (excluded: readings dropped for good; call finish_counts() at the end). */

@@ -4,6 +4,7 @@
 #include <swba/estimators/sliding_window.h>
 
 #include "range_bearing_graph.h"
+#include "young_readings.h"
 
 #include <swba/core/manifold.h>
 
@@ -35,23 +36,24 @@ struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 	const std::map<VariableId, std::vector<double>>* before = nullptr;
 	SteadyClock::time_point solve_start;
 	std::set<VariableId> leaving_with_oldest;  ///< the landmarks leaving with the oldest pose
+	detail::YoungReadingRule young;
 
-	explicit Impl(const SlidingWindowOptions& o) : graph(o) {}
+	explicit Impl(const SlidingWindowOptions& o) : graph(o), young(o) {}
 
 	smoother::FixedLagSmoother& smoother() { return graph.smoother(); }
 	const smoother::FixedLagSmoother& smoother() const { return graph.smoother(); }
 	const SlidingWindowOptions& opt() const { return graph.options(); }
 
-	/** The pose that leaves the window at lag W at this step's update() (−1: none): the oldest
-	 * re-linearised one without a linear tail, else the tail's oldest once the tail is full. */
+	/** The pose that leaves the window at lag W at this step's update() (−1: none): once more than W
+	 * poses are held, the oldest (the linear tail's, or the oldest re-linearised one without a tail). */
 	VariableId leaving_pose() const
 	{
 		const int k = opt().relinearized_window();
-		if (k == 0 || static_cast<int>(smoother().states().size()) <= k) return -1;
-		const std::size_t tail = static_cast<std::size_t>(opt().window_size - k);
-		if (tail == 0) return smoother().states().front().var;
+		const std::size_t held = smoother().states().size();
+		if (k == 0 || static_cast<int>(held) <= k) return -1;
 		const auto linear = smoother().linear_states();
-		return linear.size() == tail ? linear.front().var : -1;
+		if (static_cast<int>(held + linear.size()) <= opt().window_size) return -1;
+		return linear.empty() ? smoother().states().front().var : linear.front().var;
 	}
 
 	smoother::PriorOnly prior_only(VariableId v) const override { return graph.prior_only(v); }
@@ -140,19 +142,33 @@ struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 		const std::size_t o = graph.step_of(oldest.var);
 		leaving_with_oldest = landmarks_leaving_with(o);
 		const std::set<VariableId>& out = leaving_with_oldest;
-		sum->down_weighted = graph.count_down_weighted(graph.reading_factors_leaving(o, out));
+		const std::set<FactorId> readings = graph.reading_factors_leaving(o, out);
+		sum->down_weighted += graph.count_down_weighted(readings);
+		young.add_tested(graph.robust_squared_residuals(readings), graph.reading_dof());
 		graph.expire_readings_at(o);
 		if (opt().relinearized_window() < opt().window_size) graph.hold_tail_readings(o);
-		if (opt().policy == LandmarkPolicy::Map) sum->landmarks_not_mapped = graph.keep_in_map(out);
+		if (opt().policy == LandmarkPolicy::Map) sum->landmarks_not_mapped += graph.keep_in_map(out);
 		return out;
 	}
 
 	void marginalized(const smoother::TimedState&, const smoother::MarginalizationSummary& m) override
 	{
-		sum->unevaluable_factors = m.unevaluable_factors;
+		sum->unevaluable_factors += m.unevaluable_factors;
 		graph.forget_observations(m.removed);
 		for (VariableId v : leaving_with_oldest)
 			if (graph.forget_landmark(v)) sum->marginalized_landmarks++;
+	}
+
+	/** Young landmarks' readings (SlidingWindowOptions::young_landmark_readings): the oldest
+	 * re-linearised pose stays while a reading of it that is still a factor is one of a young landmark. */
+	bool keep_relinearized(const smoother::TimedState& oldest) override
+	{
+		const std::size_t k = graph.step_of(oldest.var);
+		std::vector<std::int32_t> ids;
+		for (const auto& [id, lm] : graph.landmarks())
+			for (const auto& ob : lm.obs)
+				if (ob.pose_step == k) ids.push_back(id);
+		return young.keeps(ids);
 	}
 
 	/** A pose leaves the window at lag W: the lagged output. */
@@ -176,6 +192,8 @@ struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 		step_sum.step = step.index;
 		const auto snapshot = graph.gauge_snapshot();
 		graph.add_step(step, step_sum);
+		if (const std::size_t k = graph.poses().size() - 1; k < graph.assigned_ids().size())
+			young.add_readings(graph.assigned_ids()[k]);
 		sum = &step_sum;
 		before = &snapshot;
 		solve_start = SteadyClock::now();
@@ -185,6 +203,8 @@ struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 		sum = nullptr;
 		before = nullptr;
 		step_sum.marginalization_seconds = u.marginalization_seconds;
+		if (const int k = opt().relinearized_window(); k > 0)
+			step_sum.kept_relinearized = std::max(0, static_cast<int>(smoother().states().size()) - k);
 		step_sum.window_poses = static_cast<int>(smoother().states().size() + smoother().linear_states().size());
 		step_sum.landmarks = static_cast<int>(graph.landmarks().size());
 		step_sum.prior_rank = smoother().prior().rank();
@@ -277,7 +297,11 @@ std::vector<std::vector<std::int32_t>> SlidingWindowEstimator::assigned_ids() co
 ReadingCounts SlidingWindowEstimator::reading_counts() const
 {
 	ReadingCounts c = impl_->graph.counts();
-	for (const auto& s : impl_->summaries) c.down_weighted += static_cast<std::size_t>(s.down_weighted);
+	for (const auto& s : impl_->summaries)
+	{
+		c.down_weighted += static_cast<std::size_t>(s.down_weighted);
+		if (s.kept_relinearized > 0) c.young_held_steps++;
+	}
 	return c;
 }
 const SlidingWindowOptions& SlidingWindowEstimator::options() const { return impl_->graph.options(); }

@@ -48,6 +48,8 @@ void SlidingWindowOptions::validate() const
 		throw std::invalid_argument("gate probability must be in (0, 1), got " + std::to_string(gate_probability));
 	if (!(robust_probability > 0 && robust_probability < 1))
 		throw std::invalid_argument("robust-loss probability must be in (0, 1), got " + std::to_string(robust_probability));
+	if (young_landmark_readings < 0)
+		throw std::invalid_argument("young landmark readings must be >= 0, got " + std::to_string(young_landmark_readings));
 	if (policy == LandmarkPolicy::Map && gauge == GaugeMode::Free)
 		throw std::invalid_argument("the map landmark policy needs the fixed or the prior gauge: its map is in the frame "
 									"of the first pose, which a free gauge does not hold");
@@ -131,6 +133,14 @@ IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& 
 					"data association: move a window reading that no longer fits its landmark to the one it fits "
 					"(doc/association.md)",
 					&O::reassociate),
+		int_key<O>(section, "young_landmark_readings", "integer >= 0",
+				   "a pose with a reading of a landmark read fewer times than this stays re-linearised, so the "
+				   "reading's robust weight is not frozen yet (doc/window.md); 0 = never",
+				   &O::young_landmark_readings, 0),
+		enum_key<O, YoungReadings>(section, "young_readings",
+								   "when young landmarks' readings stay re-linearised: auto (once the readings "
+								   "misfit their declared noise), on or off",
+								   "young readings", [](auto& o) -> auto& { return o.young_readings; }),
 	};
 }
 }  // namespace swba::estimators

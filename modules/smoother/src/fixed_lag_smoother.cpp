@@ -26,6 +26,7 @@ FixedLagSmoother& FixedLagSmoother::operator=(FixedLagSmoother&&) noexcept = def
 PriorOnly SmootherClient::prior_only(VariableId) const { return PriorOnly::Keep; }
 bool SmootherClient::hold(const UpdateSummary&) { return false; }
 void SmootherClient::solved(const UpdateSummary&) {}
+bool SmootherClient::keep_relinearized(const TimedState&) { return false; }
 std::set<VariableId> SmootherClient::leaving(const TimedState&) { return {}; }
 void SmootherClient::marginalized(const TimedState&, const MarginalizationSummary&) {}
 void SmootherClient::left(const TimedState&, const std::vector<double>&) {}
@@ -170,7 +171,19 @@ UpdateSummary FixedLagSmoother::update(SmootherClient& client, const CovarianceR
 	}
 	client.solved(out);
 	const int relinearized = opt_.relinearized > 0 ? opt_.relinearized : opt_.window;
-	if (opt_.window > 0 && static_cast<int>(states_.size()) > relinearized) marginalize(client, out);
+	while (opt_.window > 0 && static_cast<int>(states_.size()) > relinearized)
+	{
+		// The oldest re-linearised state may stay while the re-linearised states alone fit in the
+		// window: the tail's oldest then leaves in its place.
+		if (static_cast<int>(states_.size()) <= opt_.window && client.keep_relinearized(states_.front()))
+		{
+			const auto t0 = SteadyClock::now();
+			leave_tail(client);
+			out.marginalization_seconds += seconds_since(t0);
+			break;
+		}
+		marginalize(client, out);
+	}
 	return out;
 }
 
@@ -182,7 +195,16 @@ void FixedLagSmoother::marginalize(SmootherClient& client, UpdateSummary& out)
 	if (tail_length() == 0) client.left(oldest, problem_.variable(oldest.var).value);
 	MarginalizationSummary m = marginalize_oldest(also);
 	client.marginalized(oldest, m);
-	while (static_cast<int>(tail_->size()) > tail_length())
+	leave_tail(client);
+	out.marginalization = std::move(m);
+	out.marginalization_seconds += seconds_since(t0);
+}
+
+void FixedLagSmoother::leave_tail(SmootherClient& client)
+{
+	// The tail holds at most window − relinearized states, fewer while the client keeps states
+	// re-linearised: its oldest leaves while more than `window` states are held in all.
+	while (!tail_->empty() && static_cast<int>(tail_->size() + states_.size()) > opt_.window)
 	{
 		const auto& c = tail_->conditionals().front();
 		const TimedState s{c.time, c.state};
@@ -190,8 +212,6 @@ void FixedLagSmoother::marginalize(SmootherClient& client, UpdateSummary& out)
 		tail_->pop_front();
 		client.left(s, value);
 	}
-	out.marginalization = std::move(m);
-	out.marginalization_seconds = seconds_since(t0);
 }
 
 MarginalizationSummary FixedLagSmoother::marginalize_oldest(const std::set<VariableId>& also)

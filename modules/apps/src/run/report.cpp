@@ -199,6 +199,7 @@ ordered_json readings_object(const estimators::ReadingCounts& c)
 	j["unconfirmed"] = c.unconfirmed;
 	j["excluded"] = c.excluded;
 	j["down_weighted"] = c.down_weighted;
+	j["young_held_steps"] = c.young_held_steps;
 	return j;
 }
 

@@ -269,7 +269,10 @@ void add_reading_notes(RunReport& report)
 							   " gated (" + std::to_string(c.readmitted) + " re-admitted), " +
 							   std::to_string(c.unconfirmed) + " unconfirmed first readings, " +
 							   std::to_string(c.excluded) + " never used, " + std::to_string(c.down_weighted) +
-							   " down-weighted");
+							   " down-weighted" +
+							   (c.young_held_steps > 0 ? "; young landmarks' readings kept re-linearised on " +
+															 std::to_string(c.young_held_steps) + " steps"
+													   : std::string()));
 	}
 }
 }  // namespace

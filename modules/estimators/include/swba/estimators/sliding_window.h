@@ -74,6 +74,19 @@ constexpr std::array<EnumName<LandmarkPolicy>, 3> enum_names(LandmarkPolicy)
 	return {{{LandmarkPolicy::Slam, "slam"}, {LandmarkPolicy::ConstantTime, "constant-time"}, {LandmarkPolicy::Map, "map"}}};
 }
 
+/** When the window keeps young landmarks' readings re-linearised (SlidingWindowOptions::young_readings). */
+enum class YoungReadings
+{
+	/** Once the readings marginalised so far lie beyond the robust loss's scale significantly more often
+	 * than the declared noise predicts: the weights then do work, and freezing them costs accuracy. */
+	Auto,
+	On,
+	Off
+};
+constexpr std::array<EnumName<YoungReadings>, 3> enum_names(YoungReadings)
+{
+	return {{{YoungReadings::Auto, "auto"}, {YoungReadings::On, "on"}, {YoungReadings::Off, "off"}}};
+}
 
 LandmarkParameterization parse_landmark_parameterization(const std::string& s);  ///< "inverse-depth" | "xyz"
 LandmarkPolicy parse_landmark_policy(const std::string& s);                      ///< "slam" | "constant-time" | "map"
@@ -159,6 +172,18 @@ struct SlidingWindowOptions
 	 * "Re-association"). Decisions are revisited while their pose is in the window, not after it left.
 	 * Default true. */
 	bool reassociate = true;
+	/** A pose whose readings include one of a landmark given fewer than this many readings so far stays
+	 * re-linearised (beyond relinearized_poses, within window_size) while young_readings says so. Such a
+	 * landmark is still fitted to those readings, so marginalising them would freeze their robust weight
+	 * at a near-zero residual, where the later readings (and the batch) give them less: on real logs
+	 * that is most of the gap to the causal optimum (doc/realdata.md). 0 = never. Default 30. */
+	int young_landmark_readings = 30;
+	/** When young landmarks' readings are kept re-linearised (robust loss only; the SLAM policy with a
+	 * linear tail). Auto: from the first step at which the readings marginalised so far lie beyond the
+	 * loss's scale more often than 1 − robust_probability, the share the declared noise predicts, by a
+	 * one-sided binomial test at level 1e-6; under the declared model it never runs, and costs nothing.
+	 * Default Auto. */
+	YoungReadings young_readings = YoungReadings::Auto;
 
 	/** The poses re-linearised at every step: min(relinearized_poses, window_size) for the SLAM policy
 	 * with the fixed or prior gauge, else window_size (0: unbounded). The constant-time and map policies
@@ -179,7 +204,7 @@ struct SlidingWindowOptions
 	 * marginalization_threshold. The members solver, sensor and odometry have their own keys
 	 * (SolverOptions::ini_keys etc.); window_size, policy and FEJ are chosen per run by the application.
 	 * Also the outlier keys: gate, gate_probability, robust_loss, robust_probability; covariances;
-	 * association and reassociate. */
+	 * association and reassociate; young_landmark_readings and young_readings. */
 	static IniKeys<SlidingWindowOptions> ini_keys(const std::string& section);
 };
 
@@ -212,6 +237,8 @@ struct StepSummary
 	int readmitted = 0;             ///< held readings that passed the gate after this step's solve and entered
 	int reassociated = 0;           ///< readings moved to another landmark after this step's solve (reassociate)
 	int down_weighted = 0;          ///< readings that entered the marginal prior this step beyond the loss's scale
+	/** Poses kept re-linearised beyond relinearized_poses after this step (young landmarks' readings). */
+	int kept_relinearized = 0;
 	/** Factors the marginalisation could not evaluate at the current values (residual undefined or not
 	 * finite there): dropped with the marginalised variables, their information lost. Counted, never
 	 * silent: swba run reports the total as a note. */
@@ -235,6 +262,9 @@ struct ReadingCounts
 	/** Readings whose whitened residual lay beyond the robust loss's scale (Huber weight < 1, Cauchy
 	 * weight < 1/2) when they entered the marginal prior (window) / at the solution (batch). */
 	std::size_t down_weighted = 0;
+	/** Window: steps after which poses were kept re-linearised for young landmarks' readings
+	 * (SlidingWindowOptions::young_readings). */
+	std::size_t young_held_steps = 0;
 };
 
 class SlidingWindowEstimator

@@ -110,14 +110,16 @@ struct UpdateSummary
 	int prior_only_eliminated = 0;  ///< variables held out of the solve (PriorOnly::Eliminate or Store)
 	/** The covariances update() was asked for, at its solution (ok with no blocks when none were). */
 	CovarianceResult covariance;
-	/** The marginalisation of the oldest state, if one was due. */
+	/** The last marginalisation of this update, if one was due (several states leave the re-linearised
+	 * ones at once when the client stops keeping them). */
 	std::optional<MarginalizationSummary> marginalization;
-	double marginalization_seconds = 0;  ///< of the marginalisation and the states leaving, hooks included
+	double marginalization_seconds = 0;  ///< of the marginalisations and the states leaving, hooks included
 };
 
 /** The estimator's side of update(): the decisions the smoother cannot take without knowing what the
  * variables are. Called in this order within one update(): prior_only() (per prior variable), hold(),
- * solved(), then, if the oldest state leaves the re-linearised states, leaving(), left() (no tail),
+ * solved(), then, while the re-linearised states exceed options().relinearized: keep_relinearized()
+ * (unless the window is over-full), and if the oldest leaves them, leaving(), left() (no tail),
  * marginalized(), and left() for each state leaving the tail. */
 class SmootherClient
 {
@@ -131,6 +133,12 @@ class SmootherClient
 	virtual bool hold(const UpdateSummary& u);
 	/** After hold(): the final values of this solve (online output, covariances, re-association). */
 	virtual void solved(const UpdateSummary& u);
+	/** The oldest re-linearised state is due to be marginalised: returning true keeps it (and the
+	 * states after it) re-linearised for this update, e.g. while a factor on it has a robust weight
+	 * still in question, which marginalising would freeze; the linear tail's oldest state leaves in its
+	 * place if the window is over-full. Only asked while the re-linearised states alone are at most
+	 * options().window: the lag bounds it. Default false. */
+	virtual bool keep_relinearized(const TimedState& oldest);
 	/** The oldest re-linearised state is about to be marginalised: returns the variables that leave
 	 * with it. The client may first re-parameterise variables that depend on it (change_prior_variable). */
 	virtual std::set<VariableId> leaving(const TimedState& oldest);
@@ -226,6 +234,8 @@ class FixedLagSmoother
 	int sync_store(const SmootherClient& client);
 	/** The oldest state leaves the re-linearised states, then the tail's oldest while over the window. */
 	void marginalize(SmootherClient& client, UpdateSummary& out);
+	/** The tail's oldest states leave (client.left()) while more than options().window are held. */
+	void leave_tail(SmootherClient& client);
 	/** Marginalises the oldest state with `also` (see update()). */
 	MarginalizationSummary marginalize_oldest(const std::set<VariableId>& also);
 	/** The conditional `c` of the non-constant of `marg` given the kept variables joins the tail (with
