@@ -178,7 +178,7 @@ UpdateSummary FixedLagSmoother::update(SmootherClient& client, const CovarianceR
 		if (static_cast<int>(states_.size()) <= opt_.window && client.keep_relinearized(states_.front()))
 		{
 			const auto t0 = SteadyClock::now();
-			leave_tail(client);
+			leave_tail(client);  // in the kept state's place
 			out.marginalization_seconds += seconds_since(t0);
 			break;
 		}
