@@ -211,7 +211,7 @@ void RangeBearingGraph::retest_held(std::size_t k, StepSummary& sum)
 {
 	std::vector<PredictionTarget> targets;
 	std::vector<Landmark*> holding;
-	for (auto& [id, lm] : landmarks_)
+	for (auto& [id, lm] : store_)
 		for (const auto& h : lm.held)
 			if (h.pose_step == k)
 			{
@@ -294,18 +294,18 @@ std::vector<RangeBearingGraph::PredictionTarget> RangeBearingGraph::association_
 	// a world point from one reading at a window pose) and the map's landmarks (map policy: their
 	// marginals, independent of the window, as the map keeps them).
 	std::vector<PredictionTarget> cand;
-	for (const auto& [id, lm] : landmarks_)
+	for (const auto& [id, lm] : store_)
 	{
 		ids.push_back(id);
 		cand.push_back({&lm, nullptr});
 	}
-	for (const auto& [id, waiting] : unconfirmed_)
+	for (const auto& [id, waiting] : store_.unconfirmed())
 		for (const auto& o : waiting)
 		{
 			ids.push_back(id);
 			cand.push_back({nullptr, &o});
 		}
-	for (const auto& [id, m] : map_)
+	for (const auto& [id, m] : store_.map())
 	{
 		ids.push_back(id);
 		cand.push_back({nullptr, nullptr, &m});

@@ -94,16 +94,15 @@ mrpt::poses::CPose3D RangeBearingGraph::pose(VariableId var) const
 
 bool RangeBearingGraph::is_world_point(VariableId v) const
 {
-	auto it = landmark_of_var_.find(v);
-	return it != landmark_of_var_.end() &&
-		(opt_.landmarks == LandmarkParameterization::Xyz || landmarks_.at(it->second).world_xyz);
+	const Landmark* lm = store_.find_by_variable(v);
+	return lm && (opt_.landmarks == LandmarkParameterization::Xyz || lm->world_xyz);
 }
 
 std::map<std::int32_t, Eigen::Vector3d> RangeBearingGraph::landmark_positions() const
 {
 	std::map<std::int32_t, Eigen::Vector3d> out;
-	for (const auto& [id, lm] : landmarks_) out[id] = world_position(lm);
-	for (const auto& [id, m] : map_) out[id] = m.position;  // never in the state as well
+	for (const auto& [id, lm] : store_) out[id] = world_position(lm);
+	for (const auto& [id, m] : store_.map()) out[id] = m.position;  // never in the state as well
 	return out;
 }
 
@@ -160,8 +159,7 @@ Landmark& RangeBearingGraph::add_landmark(std::int32_t id, const Observation& o)
 	std::shared_ptr<const Manifold> manifold = euclidean_manifold(3);
 	if (model_ == PoseModel::Planar) manifold = planar_point_manifold();
 	lm.var = problem.add_variable(x0, std::move(manifold), Group::Eliminable);
-	landmark_of_var_[lm.var] = lm.id;
-	return landmarks_.emplace(lm.id, std::move(lm)).first->second;
+	return store_.add(std::move(lm));
 }
 
 Eigen::MatrixXd RangeBearingGraph::add_odometry_factor(const io::RawlogStep& step, VariableId vprev, VariableId vnew)
@@ -224,7 +222,7 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 		}
 	if (opt_.policy == LandmarkPolicy::Map)
 		for (const auto& [id, o] : readings)
-			if (!landmarks_.count(id) && map_.count(id))
+			if (!store_.find(id) && store_.in_map(id))
 			{
 				restore_from_map(id);
 				sum.landmarks_from_map++;
@@ -250,8 +248,8 @@ void RangeBearingGraph::admit_step_readings(const std::vector<std::pair<std::int
 				admit_reading(id, o, sum);
 			continue;
 		}
-		auto it = landmarks_.find(id);
-		admit(it == landmarks_.end() ? add_landmark(id, o) : it->second, o);
+		Landmark* lm = store_.find(id);
+		admit(lm ? *lm : add_landmark(id, o), o);
 	}
 }
 
@@ -274,30 +272,17 @@ void RangeBearingGraph::admit(Landmark& lm, Observation o)
 
 bool RangeBearingGraph::forget_landmark(VariableId v)
 {
-	auto it = landmark_of_var_.find(v);
-	if (it == landmark_of_var_.end()) return false;
-	const std::size_t held = landmarks_.at(it->second).held.size();
+	std::size_t held = 0;
+	if (!store_.forget(v, held)) return false;
 	counts_.excluded += held;
-	landmarks_.erase(it->second);
-	landmark_of_var_.erase(it);
 	return true;
-}
-
-void RangeBearingGraph::forget_observations(const std::set<FactorId>& removed)
-{
-	for (auto& [id, lm] : landmarks_)
-		lm.obs.erase(std::remove_if(lm.obs.begin(), lm.obs.end(),
-									[&](const Observation& ob) { return removed.count(ob.factor) > 0; }),
-					 lm.obs.end());
 }
 
 void RangeBearingGraph::replace_landmark_variable(Landmark& lm, VariableId v)
 {
 	for (auto& o : lm.obs) smoother_.problem().remove_factor(o.factor);
-	landmark_of_var_.erase(lm.var);
 	smoother_.problem().remove_variable(lm.var);
-	lm.var = v;
-	landmark_of_var_[v] = lm.id;
+	store_.rebind(lm, v);
 	for (auto& o : lm.obs) o.factor = add_observation_factor(lm, o);
 }
 }  // namespace swba::estimators::detail

@@ -5,10 +5,16 @@
  * XYZ), one range-bearing factor per reading. The window (SlidingWindowEstimator) and the batch run
  * (run_batch) are both built on it.
  *
+ * The graph owns the smoother's problem and is the only one to change it; the landmarks' records and
+ * their readings' bookkeeping (held, unconfirmed, the linear tail's counts, the map policy's map) live
+ * in a LandmarkStore it holds, which callers see read-only through landmarks().
+ *
  * Planar model (PoseModel::Planar): the same graph restricted to the plane (swba/factors/planar.h):
  * poses updated in (ρx, ρy, ωz), landmarks as world points updated in (x, y) at the sensor's height,
  * odometry factors on (ρx, ρy, ωz) with the 3×3 planar information, readings on (range, yaw). */
 #pragma once
+
+#include "landmark_store.h"
 
 #include <swba/estimators/data_association.h>
 #include <swba/estimators/sliding_window.h>
@@ -17,7 +23,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <deque>
 #include <map>
 #include <set>
 #include <string>
@@ -25,37 +30,6 @@
 
 namespace swba::estimators::detail
 {
-struct Observation
-{
-	std::size_t pose_step;  ///< index into poses() (0 = initial pose)
-	RangeBearingMeasurement z;
-	Eigen::Vector3d sigma;
-	FactorId factor = -1;
-	std::size_t reading = 0;  ///< index among its step's readings (assigned_ids()[pose_step][reading])
-};
-
-struct Landmark
-{
-	std::int32_t id;
-	VariableId var;
-	std::size_t anchor_step = 0;  ///< inverse depth only
-	/** Inverse-depth mode: the landmark was in the marginal prior when its anchor left the window, so it
-	 * was switched to world XYZ (a parameterisation no later marginalisation has to change). */
-	bool world_xyz = false;
-	std::vector<Observation> obs;  ///< observations whose factors are still in the problem
-	/** Readings of poses in the smoother's linear tail (still in the window W, no longer factors). */
-	std::size_t tail_readings = 0;
-	/** Readings held out by the χ² gate whose pose is still in the window (no factor). */
-	std::vector<Observation> held;
-};
-
-/** Map policy: a landmark that left the state, as its marginal when it left. */
-struct MapLandmark
-{
-	Eigen::Vector3d position;
-	Eigen::Matrix3d covariance;  ///< of the world position (planar: z row and column zero)
-};
-
 struct PoseRecord
 {
 	double time;
@@ -111,12 +85,10 @@ class RangeBearingGraph
 	 * dropped for good (counted). */
 	void expire_readings_at(std::size_t k);
 	/** The readings of pose step k (leaving the re-linearised poses for the linear tail) still count
-	 * for their landmarks' gate (window_readings) until release_tail_readings() at lag W. */
-	void hold_tail_readings(std::size_t k);
+	 * for their landmarks' gate (LandmarkStore::window_readings) until release_tail_readings() at lag W. */
+	void hold_tail_readings(std::size_t k) { store_.hold_tail_readings(k); }
 	/** The oldest pose of the linear tail left the window: its readings no longer count. */
-	void release_tail_readings();
-	/** Readings of `lm` in the window W: its factors' and those of the linear tail's poses. */
-	static std::size_t window_readings(const Landmark& lm) { return lm.obs.size() + lm.tail_readings; }
+	void release_tail_readings() { store_.release_tail_readings(); }
 	/** Batch: re-tests every reading against the current estimate; readings outside the gate lose their
 	 * factor, held ones inside it get one back (a landmark keeps at least its best-fitting reading).
 	 * Returns whether the admitted set changed. */
@@ -145,9 +117,9 @@ class RangeBearingGraph
 	const std::vector<PoseRecord>& poses() const { return poses_; }
 	/** Step of the pose variable `var`. */
 	std::size_t step_of(VariableId pose_var) const { return step_of_.at(pose_var); }
-	std::map<std::int32_t, Landmark>& landmarks() { return landmarks_; }
-	const std::map<std::int32_t, Landmark>& landmarks() const { return landmarks_; }
-	bool is_landmark(VariableId v) const { return landmark_of_var_.count(v) > 0; }
+	/** The landmarks in the state, by ID (changed only through the graph). */
+	const LandmarkStore& landmarks() const { return store_; }
+	bool is_landmark(VariableId v) const { return store_.is_landmark(v); }
 	/** How the smoother handles `v` while only its prior touches it: landmarks are eliminated, or stored
 	 * with the SLAM policy and known IDs (SlidingWindowOptions::eliminate_prior_only_landmarks). */
 	smoother::PriorOnly prior_only(VariableId v) const;
@@ -163,17 +135,17 @@ class RangeBearingGraph
 	 * covariance not recovered or not positive definite): they are forgotten, as ConstantTime does. */
 	int keep_in_map(const std::set<VariableId>& vars);
 	/** Drops the observations whose factors are in `removed`. */
-	void forget_observations(const std::set<FactorId>& removed);
+	void forget_observations(const std::set<FactorId>& removed) { store_.forget_observations(removed); }
 
-	/** Re-anchors inverse-depth landmark `lm`, which is not in the marginal prior, to pose step `b`: an
+	/** Re-anchors inverse-depth landmark `id`, which is not in the marginal prior, to pose step `b`: an
 	 * exact rewrite of its factors. (A landmark in the prior is switched to world XYZ instead.) */
-	void reanchor(Landmark& lm, std::size_t b);
-	/** Switches inverse-depth landmark `lm`, which is in the marginal prior and whose anchor a is about
+	void reanchor(std::int32_t id, std::size_t b);
+	/** Switches inverse-depth landmark `id`, which is in the marginal prior and whose anchor a is about
 	 * to be marginalised, to world XYZ p: an exact rewrite of its factors, and a first-order change of
 	 * variables λ = g(T_a, p) (p seen from a's sensor, as inverse depth) in the prior, at the first
 	 * estimates. T_a is marginalised right after, so the prior never depends on a re-anchoring again:
 	 * a landmark in the prior changes parameterisation once, not every time its anchor leaves. */
-	void convert_to_world_xyz(Landmark& lm);
+	void convert_to_world_xyz(std::int32_t id);
 
 	/** The six global rigid motions p ↦ p + u + w × p (columns [u, w]) in the tangent coordinates of
 	 * variable `v` at value `x`: a pose's right perturbation, a world point's offset; zero rows for an
@@ -338,6 +310,8 @@ class RangeBearingGraph
 	 * that `moved` changes are left for the next step. */
 	std::vector<ReadingMove> duplicate_merges(const std::map<std::int32_t, std::set<std::size_t>>& seen_at,
 											  const std::vector<ReadingMove>& moved) const;
+	/** Counts readings the store dropped for good as excluded (and the unconfirmed among them). */
+	void count_dropped(const LandmarkStore::Dropped& d);
 	/** Adds the factor of `o` to `lm` and records it as admitted. */
 	void admit(Landmark& lm, Observation o);
 	/** The step's readings (IDs assigned, `matched`: associated to an existing landmark) into the graph:
@@ -366,19 +340,13 @@ class RangeBearingGraph
 	smoother::FixedLagSmoother smoother_;
 	std::vector<PoseRecord> poses_;
 	std::map<VariableId, std::size_t> step_of_;
-	std::map<std::int32_t, Landmark> landmarks_;
-	/** Per pose of the linear tail, oldest first: the landmarks it read and how often. */
-	std::deque<std::vector<std::pair<std::int32_t, std::size_t>>> tail_readings_;
-	std::map<VariableId, std::int32_t> landmark_of_var_;
-	std::map<std::int32_t, MapLandmark> map_;  ///< Map policy (landmark_map.cpp)
+	LandmarkStore store_;
 	mrpt::poses::CPose3D last_sensor_;
 	std::shared_ptr<const LossFunction> loss_;  ///< of the reading factors (set with the model)
 	double robust_scale_sq_ = 0;                ///< χ²_dof(robust_probability) (set with the model)
 	double gate_threshold_ = 0;                 ///< χ²_dof(gate_probability) (set with the model)
 	bool gate_on_entry_;
 	std::map<double, mrpt::poses::CPose3D> pose_guesses_;
-	/** First readings of landmarks not yet in the graph, waiting for a consistent second reading. */
-	std::map<std::int32_t, std::vector<Observation>> unconfirmed_;
 	/** Odometry covariance of the newest pose relative to the previous one, on the pose variable's
 	 * tangent (the inverse of its odometry factor's information), for the gate. */
 	Eigen::MatrixXd newest_pose_cov_;

@@ -14,7 +14,7 @@ namespace swba::estimators::detail
 std::map<std::int32_t, std::set<std::size_t>> RangeBearingGraph::steps_seen() const
 {
 	std::map<std::int32_t, std::set<std::size_t>> seen;
-	for (const auto& [id, lm] : landmarks_)
+	for (const auto& [id, lm] : store_)
 	{
 		auto& steps = seen[id];
 		for (const auto& o : lm.obs) steps.insert(o.pose_step);
@@ -27,13 +27,13 @@ std::vector<RangeBearingGraph::ReadingMove> RangeBearingGraph::misfit_moves(
 	std::map<std::int32_t, std::set<std::size_t>>& seen_at) const
 {
 	std::vector<ReadingMove> moves;
-	for (const auto& [id, lm] : landmarks_)
+	for (const auto& [id, lm] : store_)
 		for (const auto& o : lm.obs)
 		{
 			if (gate_distance(lm, o, nullptr) <= gate_threshold_) continue;
 			std::int32_t best = -1;
 			double best_d2 = gate_threshold_;
-			for (const auto& [other, cand] : landmarks_)
+			for (const auto& [other, cand] : store_)
 			{
 				if (other == id || seen_at[other].count(o.pose_step)) continue;
 				const double d2 = gate_distance(cand, o, nullptr);
@@ -56,14 +56,14 @@ std::vector<RangeBearingGraph::ReadingMove> RangeBearingGraph::duplicate_merges(
 	std::set<std::int32_t> busy;  // landmarks a move of this step already changes
 	for (const ReadingMove& m : moved) busy.insert({m.from, m.to});
 	std::map<std::int32_t, Eigen::Vector3d> at;
-	for (const auto& [id, lm] : landmarks_) at[id] = world_position(lm);
+	for (const auto& [id, lm] : store_) at[id] = world_position(lm);
 	const auto shares_a_step = [](const std::set<std::size_t>& a, const std::set<std::size_t>& b) {
 		for (std::size_t k : a)
 			if (b.count(k)) return true;
 		return false;
 	};
 	std::vector<ReadingMove> merges;
-	for (const auto& [id, lm] : landmarks_)
+	for (const auto& [id, lm] : store_)
 	{
 		if (lm.obs.empty() || !lm.held.empty() || busy.count(id)) continue;
 		if (smoother_.in_prior(lm.var)) continue;  // its information is in the prior
@@ -74,7 +74,7 @@ std::vector<RangeBearingGraph::ReadingMove> RangeBearingGraph::duplicate_merges(
 		const double reach = 2 * std::sqrt(2 * gate_threshold_) * s;
 		std::int32_t best = -1;
 		double best_sum = std::numeric_limits<double>::infinity();
-		for (const auto& [other, cand] : landmarks_)
+		for (const auto& [other, cand] : store_)
 		{
 			if (other >= id) break;  // into an older landmark only (IDs grow with creation)
 			if (busy.count(other) || (at.at(other) - at.at(id)).norm() > reach ||
@@ -114,13 +114,13 @@ void RangeBearingGraph::reassociate(StepSummary& sum)
 	Problem& problem = smoother_.problem();
 	for (const ReadingMove& m : moves)
 	{
-		Landmark& from = landmarks_.at(m.from);
+		Landmark& from = store_.at(m.from);
 		const auto it = std::find_if(from.obs.begin(), from.obs.end(), [&](const Observation& o) { return o.factor == m.factor; });
 		Observation o = *it;
 		from.obs.erase(it);
 		problem.remove_factor(o.factor);
 		assigned_ids_.at(o.pose_step).at(o.reading) = m.to;
-		admit(landmarks_.at(m.to), o);
+		admit(store_.at(m.to), o);
 		sum.reassociated++;
 		counts_.reassociated++;
 	}
@@ -128,10 +128,10 @@ void RangeBearingGraph::reassociate(StepSummary& sum)
 	// otherwise it is no longer a landmark of the estimate.
 	for (const ReadingMove& m : moves)
 	{
-		const auto it = landmarks_.find(m.from);
-		if (it == landmarks_.end() || !it->second.obs.empty()) continue;
-		if (smoother_.in_prior(it->second.var)) continue;
-		const VariableId v = it->second.var;
+		const Landmark* lm = store_.find(m.from);
+		if (!lm || !lm->obs.empty()) continue;
+		if (smoother_.in_prior(lm->var)) continue;
+		const VariableId v = lm->var;
 		forget_landmark(v);
 		smoother_.problem().remove_variable(v);
 	}
