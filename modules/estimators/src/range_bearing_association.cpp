@@ -232,7 +232,7 @@ void RangeBearingGraph::retest_held(std::size_t k, StepSummary& sum)
 		{
 			if (h.pose_step == k &&
 				mahalanobis(reading_point(h.z).head(dim), reading_point_covariance(h.z, h.sigma).topLeftCorner(dim, dim),
-							pred.points[j], S) <= gate_threshold_)
+							pred.points[j], S) <= gate_.threshold())
 			{
 				admit(lm, h);
 				sum.gated--;

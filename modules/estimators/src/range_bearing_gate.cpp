@@ -2,74 +2,27 @@
 // solve, or after each batch solve) and what the counts say. doc/outliers.md explains the choices.
 #include "range_bearing_graph.h"
 
-#include <Eigen/Cholesky>
-#include <Eigen/LU>
-
 #include <algorithm>
-#include <limits>
 #include <stdexcept>
 #include <string>
 
 namespace swba::estimators::detail
 {
-bool RangeBearingGraph::reading_residual(const Eigen::Vector3d& p, const Observation& o, const double* pose_x,
-										 Eigen::VectorXd& r, RowMajorMatrix* JT) const
-{
-	const auto& P = poses_[o.pose_step];
-	const auto f = model_reading_factor(std::make_shared<RangeBearingXyzFactor>(o.z, P.sensor), o);
-	const double* x[2] = {pose_x ? pose_x : smoother_.problem().value(P.var), p.data()};
-	r.resize(f->residual_dim());
-	if (JT) JT->resize(f->residual_dim(), smoother_.problem().variable(P.var).manifold->tangent_size());
-	double* jac[2] = {JT ? JT->data() : nullptr, nullptr};
-	return f->evaluate(x, r.data(), jac) && r.allFinite();
-}
-
 double RangeBearingGraph::innovation_distance(const Eigen::Vector3d& p, std::size_t n, const Observation& o,
 											  const Eigen::MatrixXd* pose_cov, const double* pose_x) const
 {
-	Eigen::VectorXd r;
-	RowMajorMatrix JT;
-	if (!reading_residual(p, o, pose_x, r, pose_cov ? &JT : nullptr)) return std::numeric_limits<double>::infinity();
-	Eigen::MatrixXd S = reading_sigma(o).cwiseAbs2().asDiagonal();
-	S *= 1.0 + 1.0 / static_cast<double>(std::max<std::size_t>(n, 1));
-	if (pose_cov) S += JT * (*pose_cov) * JT.transpose();
-	return r.dot(S.ldlt().solve(r));
+	const auto& P = poses_[o.pose_step];
+	return gate_.distance(p, n, o, P.sensor, pose_x ? pose_x : smoother_.problem().value(P.var), pose_cov);
 }
 
 void RangeBearingGraph::centre_gate(const std::vector<std::pair<std::int32_t, Observation>>& readings)
 {
-	const VariableId v = poses_.back().var;
-	const Manifold& M = *smoother_.problem().variable(v).manifold;
-	const int d = M.tangent_size();
-	const double* x0 = smoother_.problem().value(v);
-	gate_centre_.assign(x0, x0 + M.ambient_size());
-	const Eigen::MatrixXd P_inv = newest_pose_cov_.inverse();
-	std::vector<double> next(gate_centre_.size());
-	Eigen::VectorXd delta(d), r;
-	RowMajorMatrix JT;
-	constexpr int kMaxIterations = 10;
-	for (int it = 0; it < kMaxIterations; it++)
-	{
-		M.minus(gate_centre_.data(), x0, delta.data());
-		Eigen::MatrixXd A = P_inv;
-		Eigen::VectorXd g = P_inv * delta;
-		for (const auto& [id, o] : readings)
-		{
-			const Landmark* lm = store_.find(id);
-			if (!lm) continue;
-			if (!reading_residual(world_position(*lm), o, gate_centre_.data(), r, &JT)) continue;
-			const double n = static_cast<double>(std::max<std::size_t>(LandmarkStore::window_readings(*lm), 1));
-			const Eigen::VectorXd s_inv = reading_sigma(o).cwiseAbs2().cwiseInverse() / (1.0 + 1.0 / n);
-			const double w = 1.0 / (1.0 + r.dot(s_inv.cwiseProduct(r)) / gate_threshold_);  // Cauchy
-			A.noalias() += w * JT.transpose() * s_inv.asDiagonal() * JT;
-			g.noalias() += w * JT.transpose() * s_inv.cwiseProduct(r);
-		}
-		const Eigen::VectorXd step = -A.ldlt().solve(g);
-		if (!step.allFinite()) break;
-		M.plus(gate_centre_.data(), step.data(), next.data());
-		gate_centre_.swap(next);
-		if (step.norm() < 1e-10) break;
-	}
+	std::vector<GatedReading> known;
+	for (const auto& [id, o] : readings)
+		if (const Landmark* lm = store_.find(id)) known.push_back({world_position(*lm), LandmarkStore::window_readings(*lm), &o});
+	const PoseRecord& newest = poses_.back();
+	gate_.centre_on(*smoother_.problem().variable(newest.var).manifold, smoother_.problem().value(newest.var),
+					newest.sensor, known);
 }
 
 Eigen::Vector3d RangeBearingGraph::world_position(const Landmark& lm) const
@@ -91,7 +44,7 @@ void RangeBearingGraph::admit_reading(std::int32_t id, const Observation& o, Ste
 	if (Landmark* found = store_.find(id))
 	{
 		Landmark& lm = *found;
-		if (gate_distance(lm, o, &newest_pose_cov_, gate_centre_.data()) <= gate_threshold_)
+		if (gate_distance(lm, o, &gate_.prediction_covariance(), gate_.centre()) <= gate_.threshold())
 			admit(lm, o);
 		else
 		{
@@ -108,7 +61,7 @@ void RangeBearingGraph::admit_reading(std::int32_t id, const Observation& o, Ste
 	{
 		const auto& C = poses_[c->pose_step];
 		const Eigen::Vector3d p = inverse_depth_to_world(problem.value(C.var), C.sensor, inverse_depth_from_measurement(c->z));
-		if (innovation_distance(p, 1, o, &newest_pose_cov_, gate_centre_.data()) > gate_threshold_) continue;
+		if (innovation_distance(p, 1, o, &gate_.prediction_covariance(), gate_.centre()) > gate_.threshold()) continue;
 		Landmark& lm = add_landmark(id, *c);
 		admit(lm, *c);
 		admit(lm, o);
@@ -147,7 +100,7 @@ void RangeBearingGraph::readmit_held(StepSummary& sum)
 	{
 		std::vector<Observation> still;
 		for (const auto& h : lm.held)
-			if (gate_distance(lm, h, nullptr) <= gate_threshold_)
+			if (gate_distance(lm, h, nullptr) <= gate_.threshold())
 			{
 				admit(lm, h);
 				sum.readmitted++;
@@ -184,7 +137,7 @@ bool RangeBearingGraph::regate_all()
 		std::vector<Observation> obs, held;
 		for (std::size_t i = 0; i < all.size(); i++)
 		{
-			const bool in = d[i] <= gate_threshold_ || i == best;
+			const bool in = d[i] <= gate_.threshold() || i == best;
 			const bool was_in = all[i].factor >= 0;
 			if (in == was_in)
 			{

@@ -61,7 +61,7 @@ void RangeBearingGraph::initialise(PoseModel model)
 	model_ = model;
 	loss_ = opt_.reading_loss(reading_dof());
 	robust_scale_sq_ = opt_.robust_scale_squared(reading_dof());
-	gate_threshold_ = opt_.gate_threshold(reading_dof());
+	gate_ = ReadingGate(model_, opt_.gate_threshold(reading_dof()));
 	const VariableId v0 = add_pose_variable(mrpt::poses::CPose3D());
 	poses_.push_back({0.0, v0, mrpt::poses::CPose3D()});
 	step_of_[v0] = 0;
@@ -126,15 +126,7 @@ FactorId RangeBearingGraph::add_observation_factor(const Landmark& lm, const Obs
 		f = std::make_shared<RangeBearingInverseDepthFactor>(o.z, P.sensor, poses_[lm.anchor_step].sensor);
 		vars = {poses_[lm.anchor_step].var, P.var, lm.var};
 	}
-	return smoother_.add_factor(model_reading_factor(f, o), vars, loss_);
-}
-
-std::shared_ptr<Factor> RangeBearingGraph::model_reading_factor(std::shared_ptr<Factor> f, const Observation& o) const
-{
-	// Planar: range and yaw only, a 2D sensor measures no pitch (its row is identically 0 on the plane).
-	if (model_ == PoseModel::Planar) f = planar(f, {0, 1}, {true, false});
-	f->set_information(reading_sigma(o).cwiseInverse().cwiseAbs2().asDiagonal().toDenseMatrix());
-	return f;
+	return smoother_.add_factor(model_reading_factor(model_, f, gate_.reading_sigma(o)), vars, loss_);
 }
 
 Landmark& RangeBearingGraph::add_landmark(std::int32_t id, const Observation& o)
@@ -199,7 +191,7 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 	if (step.readings.empty()) return;
 	if (association_ == DataAssociation::Auto) association_ = resolve_association(opt_.association, step);
 	const bool associating = association_ != DataAssociation::Ids;
-	if (gate_on_entry_ || associating) newest_pose_cov_ = odo_info.inverse();
+	if (gate_on_entry_ || associating) gate_.set_prediction_covariance(odo_info.inverse());
 	Eigen::Vector3d sigma;
 	if (model_ == PoseModel::Planar)
 		sigma << opt_.sensor.resolve_range_yaw(step), 0.0;

@@ -7,7 +7,9 @@
  *
  * The graph owns the smoother's problem and is the only one to change it; the landmarks' records and
  * their readings' bookkeeping (held, unconfirmed, the linear tail's counts, the map policy's map) live
- * in a LandmarkStore it holds, which callers see read-only through landmarks().
+ * in a LandmarkStore it holds, which callers see read-only through landmarks(); the χ² gate's maths
+ * (distances, the newest pose's prediction and robust centre) in a ReadingGate. What the graph keeps of
+ * the gate is the policy: which readings are tested when, and what becomes of those outside.
  *
  * Planar model (PoseModel::Planar): the same graph restricted to the plane (swba/factors/planar.h):
  * poses updated in (ρx, ρy, ωz), landmarks as world points updated in (x, y) at the sensor's height,
@@ -15,6 +17,7 @@
 #pragma once
 
 #include "landmark_store.h"
+#include "reading_gate.h"
 
 #include <swba/estimators/data_association.h>
 #include <swba/estimators/sliding_window.h>
@@ -187,11 +190,6 @@ class RangeBearingGraph
 	/** Adds the odometry factor of `step` between `vprev` and `vnew`; returns its information (6×6 on
 	 * the SE(3) tangent, planar: 3×3 on (ρx, ρy, ωz)), which the gate also uses. */
 	Eigen::MatrixXd add_odometry_factor(const io::RawlogStep& step, VariableId vprev, VariableId vnew);
-	/** Reading factor `f` (rows range, yaw, pitch) as the model takes it, with the information of its
-	 * rows' sensor noise: planar keeps rows (range, yaw) on pose (ρx, ρy, ωz) and landmark (x, y). */
-	std::shared_ptr<Factor> model_reading_factor(std::shared_ptr<Factor> f, const Observation& o) const;
-	/** The sensor noise of the rows the model keeps: (range, yaw, pitch), planar (range, yaw). */
-	Eigen::VectorXd reading_sigma(const Observation& o) const { return o.sigma.head(reading_dof()); }
 	/** The χ² gate step of a reading on arrival (gate_on_entry): a reading of a known landmark enters
 	 * or is held; the first reading of a landmark waits for a consistent second one. */
 	void admit_reading(std::int32_t id, const Observation& o, StepSummary& sum);
@@ -200,34 +198,21 @@ class RangeBearingGraph
 	 * covariance, so it enters without admit_reading's test (whose odometry-only pose covariance would
 	 * hold every reading of a landmark seen again after a long stretch of dead reckoning). */
 	void admit_associated(std::int32_t id, const Observation& o);
-	using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-	/** Residual (reading_dof rows, not whitened) of reading `o` against world point `p` with its pose
-	 * at `pose_x` (null: the pose's current value), and optionally ∂r/∂T on the pose's tangent. */
-	bool reading_residual(const Eigen::Vector3d& p, const Observation& o, const double* pose_x, Eigen::VectorXd& r,
-						  RowMajorMatrix* JT) const;
-	/** Squared Mahalanobis distance of reading `o` (taken at pose step o.pose_step) against the world
-	 * point `p`, whose estimate averages `n` readings, with the pose at `pose_x` (null: its current
-	 * estimate). Innovation covariance: the sensor noise R, the point's R/n (an approximation that
-	 * avoids a marginal covariance), and the pose's `pose_cov` (on the pose variable's tangent; null:
-	 * none) through ∂h/∂T. reading_dof rows. */
+	/** ReadingGate::distance of reading `o`, taken at pose step o.pose_step, against the world point
+	 * `p` (whose estimate averages `n` readings), with the pose at `pose_x` (null: its current value). */
 	double innovation_distance(const Eigen::Vector3d& p, std::size_t n, const Observation& o,
 							   const Eigen::MatrixXd* pose_cov, const double* pose_x = nullptr) const;
 	/** innovation_distance of `o` against landmark `lm`'s current estimate. */
 	double gate_distance(const Landmark& lm, const Observation& o, const Eigen::MatrixXd* pose_cov,
 						 const double* pose_x = nullptr) const;
-	/** Sets gate_centre_: the newest pose estimated from its odometry prediction (covariance
-	 * newest_pose_cov_) and the `readings` (landmark ID, reading) of landmarks already in the graph,
-	 * held at their estimates, under a Cauchy loss at the gate's radius (Gauss-Newton, ≤ 10
-	 * iterations). Gating at the dead-reckoned pose instead holds every good reading of a step whose
-	 * odometry drew a 3-4σ error (each reading then sits at the gate's edge, all sharing one pose
-	 * error), and the pose is left to odometry alone; the robust centre follows the readings' consensus
-	 * and a gross reading still falls outside. */
+	/** Centres the gate (ReadingGate::centre_on) on the newest pose from the `readings` (landmark ID,
+	 * reading) of landmarks already in the graph, held at their current estimates. */
 	void centre_gate(const std::vector<std::pair<std::int32_t, Observation>>& readings);
 	/** Gives every reading of the newest step (`readings`, ID field −1 or ignored) a landmark ID by
 	 * data association (association()): the graph's landmarks and the provisional ones (first readings
 	 * waiting for confirmation) are predicted in the new pose's sensor frame at its dead-reckoned value,
-	 * with the odometry's covariance newest_pose_cov_ shared by all predictions and each landmark's own
-	 * approximated by the reading noise / (its readings); an unmatched reading gets a new ID. */
+	 * with their joint covariance from the window's (predict_jointly); an unmatched reading gets a new
+	 * ID. */
 	void associate_readings(std::vector<std::pair<std::int32_t, Observation>>& readings,
 							std::vector<std::int32_t>& assigned, std::vector<bool>& matched);
 	/** What predict_jointly predicts: a graph landmark, a provisional one (its first reading), or a
@@ -344,14 +329,9 @@ class RangeBearingGraph
 	mrpt::poses::CPose3D last_sensor_;
 	std::shared_ptr<const LossFunction> loss_;  ///< of the reading factors (set with the model)
 	double robust_scale_sq_ = 0;                ///< χ²_dof(robust_probability) (set with the model)
-	double gate_threshold_ = 0;                 ///< χ²_dof(gate_probability) (set with the model)
 	bool gate_on_entry_;
 	std::map<double, mrpt::poses::CPose3D> pose_guesses_;
-	/** Odometry covariance of the newest pose relative to the previous one, on the pose variable's
-	 * tangent (the inverse of its odometry factor's information), for the gate. */
-	Eigen::MatrixXd newest_pose_cov_;
-	/** The newest pose's value the gate tests its readings at (centre_gate). */
-	std::vector<double> gate_centre_;
+	ReadingGate gate_;  ///< its bound set with the model
 	ReadingCounts counts_;
 	DataAssociation association_ = DataAssociation::Auto;
 	std::int32_t next_landmark_id_ = 0;  ///< the next ID data association gives

@@ -30,9 +30,9 @@ std::vector<RangeBearingGraph::ReadingMove> RangeBearingGraph::misfit_moves(
 	for (const auto& [id, lm] : store_)
 		for (const auto& o : lm.obs)
 		{
-			if (gate_distance(lm, o, nullptr) <= gate_threshold_) continue;
+			if (gate_distance(lm, o, nullptr) <= gate_.threshold()) continue;
 			std::int32_t best = -1;
-			double best_d2 = gate_threshold_;
+			double best_d2 = gate_.threshold();
 			for (const auto& [other, cand] : store_)
 			{
 				if (other == id || seen_at[other].count(o.pose_step)) continue;
@@ -71,7 +71,7 @@ std::vector<RangeBearingGraph::ReadingMove> RangeBearingGraph::duplicate_merges(
 		const Observation& last = lm.obs.back();
 		double s = std::max(last.sigma[0], last.z.range * last.sigma[1]);
 		if (reading_dof() == 3) s = std::max(s, last.z.range * last.sigma[2]);
-		const double reach = 2 * std::sqrt(2 * gate_threshold_) * s;
+		const double reach = 2 * std::sqrt(2 * gate_.threshold()) * s;
 		std::int32_t best = -1;
 		double best_sum = std::numeric_limits<double>::infinity();
 		for (const auto& [other, cand] : store_)
@@ -84,7 +84,7 @@ std::vector<RangeBearingGraph::ReadingMove> RangeBearingGraph::duplicate_merges(
 			for (const auto& o : lm.obs)
 			{
 				const double d2 = gate_distance(cand, o, nullptr);
-				if (!(d2 <= gate_threshold_))
+				if (!(d2 <= gate_.threshold()))
 				{
 					sum_d2 = std::numeric_limits<double>::infinity();
 					break;
