@@ -9,13 +9,16 @@
  * their readings' bookkeeping (held, unconfirmed, the linear tail's counts, the map policy's map) live
  * in a LandmarkStore it holds, which callers see read-only through landmarks(); the χ² gate's maths
  * (distances, the newest pose's prediction and robust centre) in a ReadingGate. What the graph keeps of
- * the gate is the policy: which readings are tested when, and what becomes of those outside.
+ * the gate is the policy: which readings are tested when, and what becomes of those outside. Data
+ * association's predictions of the landmarks come from a LandmarkPredictor; its decisions (which
+ * landmark a reading is given, re-association's moves) stay in the graph.
  *
  * Planar model (PoseModel::Planar): the same graph restricted to the plane (swba/factors/planar.h):
  * poses updated in (ρx, ρy, ωz), landmarks as world points updated in (x, y) at the sensor's height,
  * odometry factors on (ρx, ρy, ωz) with the 3×3 planar information, readings on (range, yaw). */
 #pragma once
 
+#include "landmark_prediction.h"
 #include "landmark_store.h"
 #include "reading_gate.h"
 
@@ -33,13 +36,6 @@
 
 namespace swba::estimators::detail
 {
-struct PoseRecord
-{
-	double time;
-	VariableId var;
-	mrpt::poses::CPose3D sensor;  ///< sensor pose on the robot at this step
-};
-
 class RangeBearingGraph
 {
    public:
@@ -215,59 +211,12 @@ class RangeBearingGraph
 	 * ID. */
 	void associate_readings(std::vector<std::pair<std::int32_t, Observation>>& readings,
 							std::vector<std::int32_t>& assigned, std::vector<bool>& matched);
-	/** What predict_jointly predicts: a graph landmark, a provisional one (its first reading), or a
-	 * landmark of the map (map policy; its marginal is its own noise, it depends on no window variable). */
-	struct PredictionTarget
-	{
-		const Landmark* lm;
-		const Observation* first;
-		const MapLandmark* map = nullptr;
-	};
-	/** Targets predicted in the sensor frame of pose step k (at its current, dead-reckoned value) with
-	 * their joint covariance: Jacobian × the window's joint marginal covariance of the new pose and the
-	 * variables the targets depend on × Jacobianᵀ, plus a provisional target's reading noise. */
-	struct JointPrediction
-	{
-		bool ok = false;
-		std::string message;               ///< why the covariance could not be recovered
-		std::vector<Eigen::Vector3d> points;  ///< per target, in the sensor frame
-		Eigen::MatrixXd jacobian;          ///< (targets × reading_dof) × the group's tangent
-		Eigen::MatrixXd covariance;        ///< the group's joint covariance
-		std::vector<Eigen::MatrixXd> own;  ///< per target, noise that is not a window variable's
-		/** Per target, the column ranges (first, size) of `jacobian` its rows may be non-zero in: the new
-		 * pose's and its own variables'. */
-		std::vector<std::vector<std::pair<int, int>>> support;
-		/** The reading_dof-sized block (a, b) of the predictions' joint covariance,
-		 * J_a Σ J_bᵀ over the two targets' supports only (O(dim² · support²), not O(dim · D²)). */
-		Eigen::MatrixXd covariance_of(int a, int b, int dim) const;
-	};
+	/** The joint prediction of `targets` in the sensor frame of pose step k (LandmarkPredictor), with
+	 * the joint covariance of the variables it needs from covariances(). */
 	JointPrediction predict_jointly(std::size_t k, const std::vector<PredictionTarget>& targets);
-	/** predict_jointly() for target j (`vars`: its variables; `at`: their first columns in the group). */
-	void predict_one(std::size_t k, const PredictionTarget& t, const std::vector<VariableId>& vars,
-					 const std::map<VariableId, int>& at, int j, JointPrediction& out) const;
-	/** The rows of target `t`'s prediction (sensor frame of pose step k) over the tangent of variable
-	 * `v`, by central differences, written into `J` (reading_dof × v's tangent size). */
-	void target_jacobian(std::size_t k, const PredictionTarget& t, VariableId v, Eigen::Ref<Eigen::MatrixXd> J) const;
 	/** The candidates of data association (the graph's landmarks, the provisional ones, the map's) and
 	 * their IDs in `ids`, in that order. */
 	std::vector<PredictionTarget> association_candidates(std::vector<std::int32_t>& ids) const;
-	/** The candidates individually compatible (inside `gate`) with some reading of `prob`, each reading
-	 * keeping its few nearest, in increasing order. */
-	static std::vector<int> compatible_candidates(const AssociationProblem& prob, const JointPrediction& pred,
-												  std::size_t num_candidates, double gate);
-	/** The window variables target `t`'s world point depends on. */
-	std::vector<VariableId> target_variables(const PredictionTarget& t) const;
-	/** Target `t` in the sensor frame of pose step k, with variable `v` at `xv` (v < 0: every variable
-	 * at its current value; pose k's is its dead-reckoned one before the step's solve). */
-	Eigen::Vector3d predict_target(std::size_t k, const PredictionTarget& t, VariableId v, const double* xv) const;
-	/** A provisional target's noise in the sensor frame of pose step k: its first reading's, rotated
-	 * (reading_dof-sized). */
-	Eigen::MatrixXd provisional_noise(std::size_t k, const Observation& first) const;
-	/** A map target's noise in the sensor frame of pose step k: its map covariance, rotated
-	 * (reading_dof-sized). */
-	Eigen::MatrixXd map_noise(std::size_t k, const MapLandmark& m) const;
-	/** The sensor's pose in the world at pose step k (the pose's current value). */
-	mrpt::poses::CPose3D sensor_in_world(std::size_t k) const;
 	/** Known IDs: the readings of step k that admit_reading held (its pose covariance is the odometry's
 	 * alone) are tested again against the window's joint covariance (predict_jointly); those inside the
 	 * gate enter now. After a long stretch without readings the drift is far beyond one step's
@@ -275,9 +224,6 @@ class RangeBearingGraph
 	 * pose would follow the odometry until a solve re-admitted them. Costs a covariance recovery on the
 	 * steps that held a reading only. */
 	void retest_held(std::size_t k, StepSummary& sum);
-	/** World point `p` in the frame of `sensor` on the robot at `pose_x`. */
-	Eigen::Vector3d in_sensor_frame(const double* pose_x, const mrpt::poses::CPose3D& sensor,
-									const Eigen::Vector3d& p) const;
 	/** World XYZ of landmark `lm` at the current estimate. */
 	Eigen::Vector3d world_position(const Landmark& lm) const;
 	/** A reading (by its factor) that reassociate() moves from one landmark to another. */
