@@ -1,5 +1,6 @@
 #include "landmark_prediction.h"
 
+#include <swba/core/chi2.h>
 #include <swba/core/manifold.h>
 
 #include <Eigen/Cholesky>
@@ -18,6 +19,35 @@ Eigen::Vector3d in_sensor_frame(const double* pose_x, const mrpt::poses::CPose3D
 	double lx, ly, lz;
 	s.inverseComposePoint(p.x(), p.y(), p.z(), lx, ly, lz);
 	return {lx, ly, lz};
+}
+/** The candidates individually compatible (inside `gate`) with some reading of `prob`, each reading
+ * keeping its few nearest, in increasing order. */
+std::vector<int> compatible_candidates(const AssociationProblem& prob, const JointPrediction& pred, std::size_t num_candidates,
+									   double gate)
+{
+	// Individually compatible readings of each candidate; each reading keeps its kMaxCandidates
+	// nearest: JCBB's search grows exponentially with the choices per reading, and a farther candidate
+	// is never the nearest neighbour and rarely the joint choice.
+	const int dim = prob.dim;
+	std::vector<std::vector<std::pair<double, int>>> compatible(prob.readings.size());
+	for (int j = 0; j < static_cast<int>(num_candidates); j++)
+	{
+		const Eigen::MatrixXd S = pred.covariance_of(j, j, dim);
+		for (std::size_t i = 0; i < prob.readings.size(); i++)
+		{
+			const double d2 =
+				mahalanobis(prob.readings[i], prob.reading_covariances[i], pred.points[static_cast<std::size_t>(j)], S);
+			if (d2 <= gate) compatible[i].push_back({d2, j});
+		}
+	}
+	constexpr std::size_t kMaxCandidates = 3;
+	std::set<int> chosen;
+	for (auto& c : compatible)
+	{
+		std::sort(c.begin(), c.end());
+		for (std::size_t t = 0; t < std::min(kMaxCandidates, c.size()); t++) chosen.insert(c[t].second);
+	}
+	return std::vector<int>(chosen.begin(), chosen.end());
 }
 }  // namespace
 
@@ -196,31 +226,31 @@ Eigen::MatrixXd JointPrediction::covariance_of(int a, int b, int dim) const
 	return S;
 }
 
-std::vector<int> compatible_candidates(const AssociationProblem& prob, const JointPrediction& pred, std::size_t num_candidates,
-									   double gate)
+std::vector<int> match_readings(const std::vector<std::pair<std::int32_t, Observation>>& readings,
+								const JointPrediction& pred, std::size_t num_candidates, DataAssociation method,
+								double probability, int dim)
 {
-	// Individually compatible readings of each candidate; each reading keeps its kMaxCandidates
-	// nearest: JCBB's search grows exponentially with the choices per reading, and a farther candidate
-	// is never the nearest neighbour and rarely the joint choice.
-	const int dim = prob.dim;
-	std::vector<std::vector<std::pair<double, int>>> compatible(prob.readings.size());
-	for (int j = 0; j < static_cast<int>(num_candidates); j++)
+	AssociationProblem prob;
+	prob.dim = dim;
+	for (const auto& [id, o] : readings)
 	{
-		const Eigen::MatrixXd S = pred.covariance_of(j, j, dim);
-		for (std::size_t i = 0; i < prob.readings.size(); i++)
-		{
-			const double d2 =
-				mahalanobis(prob.readings[i], prob.reading_covariances[i], pred.points[static_cast<std::size_t>(j)], S);
-			if (d2 <= gate) compatible[i].push_back({d2, j});
-		}
+		prob.readings.push_back(reading_point(o.z).head(dim));
+		prob.reading_covariances.push_back(reading_point_covariance(o.z, o.sigma).topLeftCorner(dim, dim));
 	}
-	constexpr std::size_t kMaxCandidates = 3;
-	std::set<int> chosen;
-	for (auto& c : compatible)
+	const std::vector<int> kept = compatible_candidates(prob, pred, num_candidates, chi2_quantile(probability, dim));
+	const int m = static_cast<int>(kept.size());
+	prob.prediction_covariance = Eigen::MatrixXd::Zero(m * dim, m * dim);
+	for (int a = 0; a < m; a++)
 	{
-		std::sort(c.begin(), c.end());
-		for (std::size_t t = 0; t < std::min(kMaxCandidates, c.size()); t++) chosen.insert(c[t].second);
+		const int ja = kept[static_cast<std::size_t>(a)];
+		prob.predictions.push_back(pred.points[static_cast<std::size_t>(ja)].head(dim));
+		for (int b = 0; b < m; b++)
+			prob.prediction_covariance.block(a * dim, b * dim, dim, dim) =
+				pred.covariance_of(ja, kept[static_cast<std::size_t>(b)], dim);
 	}
-	return std::vector<int>(chosen.begin(), chosen.end());
+	std::vector<int> match = associate(prob, method, probability);
+	for (int& j : match)
+		if (j >= 0) j = kept[static_cast<std::size_t>(j)];
+	return match;
 }
 }  // namespace swba::estimators::detail

@@ -2,9 +2,9 @@
  * (private to the estimators module) Landmarks predicted in the sensor frame of a pose with their
  * joint covariance, what data association and the re-test of held readings compare readings with:
  * the graph's landmarks, provisional ones (a first reading waiting for confirmation) and the map
- * policy's. The predictor reads the problem's values and the poses; the joint covariance of the
- * variables it names comes from the caller (RangeBearingGraph::covariances, which holds the free
- * gauge). */
+ * policy's; and the association of a step's readings with them (match_readings). The predictor reads
+ * the problem's values and the poses; the joint covariance of the variables it names comes from the
+ * caller (RangeBearingGraph::covariances, which holds the free gauge). */
 #pragma once
 
 #include "landmark_store.h"
@@ -69,10 +69,14 @@ struct JointPrediction
 	Eigen::MatrixXd covariance_of(int a, int b, int dim) const;
 };
 
-/** The candidates individually compatible (inside `gate`) with some reading of `prob`, each reading
- * keeping its few nearest, in increasing order. */
-std::vector<int> compatible_candidates(const AssociationProblem& prob, const JointPrediction& pred,
-									   std::size_t num_candidates, double gate);
+/** Data association of one step's `readings` (ID field ignored) with the `num_candidates` targets of
+ * `pred` by `method` (NearestNeighbour or Jcbb), readings and predictions as points in the sensor
+ * frame (`dim` = reading_dof rows): per reading, the index of its target, or −1 (unmatched). Only the
+ * targets individually compatible (χ² quantile at `probability`) with some reading, each reading
+ * keeping its few nearest, enter the association problem. */
+std::vector<int> match_readings(const std::vector<std::pair<std::int32_t, Observation>>& readings,
+								const JointPrediction& pred, std::size_t num_candidates, DataAssociation method,
+								double probability, int dim);
 
 class LandmarkPredictor
 {

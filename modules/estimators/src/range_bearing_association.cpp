@@ -3,8 +3,6 @@
 // joint prediction (LandmarkPredictor, landmark_prediction.h; doc/association.md).
 #include "range_bearing_graph.h"
 
-#include <swba/core/chi2.h>
-
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -61,7 +59,6 @@ void RangeBearingGraph::retest_held(std::size_t k, StepSummary& sum)
 void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, Observation>>& readings,
 										   std::vector<std::int32_t>& assigned, std::vector<bool>& matched)
 {
-	const int dim = reading_dof();
 	const std::size_t k = readings.front().second.pose_step;
 	std::vector<std::int32_t> ids;
 	const std::vector<PredictionTarget> cand = association_candidates(ids);
@@ -69,37 +66,20 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 	if (!pred.ok)
 		throw std::runtime_error("data association at step " + std::to_string(k) +
 								 ": the window's covariance cannot be recovered (" + pred.message + ")");
-	AssociationProblem prob;
-	prob.dim = dim;
-	for (const auto& [id, o] : readings)
-	{
-		prob.readings.push_back(reading_point(o.z).head(dim));
-		prob.reading_covariances.push_back(reading_point_covariance(o.z, o.sigma).topLeftCorner(dim, dim));
-	}
-	const std::vector<int> kept =
-		compatible_candidates(prob, pred, cand.size(), chi2_quantile(opt_.gate_probability, dim));
-	const int m = static_cast<int>(kept.size());
-	prob.prediction_covariance = Eigen::MatrixXd::Zero(m * dim, m * dim);
-	for (int a = 0; a < m; a++)
-	{
-		const int ja = kept[static_cast<std::size_t>(a)];
-		prob.predictions.push_back(pred.points[static_cast<std::size_t>(ja)].head(dim));
-		for (int b = 0; b < m; b++)
-			prob.prediction_covariance.block(a * dim, b * dim, dim, dim) =
-				pred.covariance_of(ja, kept[static_cast<std::size_t>(b)], dim);
-	}
-	const std::vector<int> match = associate(prob, association_, opt_.gate_probability);
+	const std::vector<int> match =
+		match_readings(readings, pred, cand.size(), association_, opt_.gate_probability, reading_dof());
 	assigned.clear();
 	matched.assign(readings.size(), false);
 	for (std::size_t i = 0; i < readings.size(); i++)
 	{
 		matched[i] = match[i] >= 0;
 		const std::int32_t id =
-			matched[i] ? ids[static_cast<std::size_t>(kept[static_cast<std::size_t>(match[i])])] : next_landmark_id_++;
+			matched[i] ? ids[static_cast<std::size_t>(match[i])] : next_landmark_id_++;
 		readings[i].first = id;
 		assigned.push_back(id);
 	}
 }
+
 std::vector<PredictionTarget> RangeBearingGraph::association_candidates(
 	std::vector<std::int32_t>& ids) const
 {
