@@ -1,11 +1,14 @@
 // LandmarkStore alone (records, the variable index, the linear tail's reading counts, the readings
-// dropped for good, the map) and match_readings on a hand-made prediction.
+// dropped for good, the map), and the association's decisions on hand-made inputs: match_readings on
+// a prediction, reassociation_moves on a table of gate distances.
 #include <gtest/gtest.h>
 
 #include "landmark_prediction.h"
 #include "landmark_store.h"
+#include "reassociation_moves.h"
 
 #include <cmath>
+#include <map>
 #include <set>
 #include <vector>
 
@@ -27,6 +30,24 @@ Landmark store_landmark(std::int32_t id, VariableId var, std::vector<Observation
 	lm.var = var;
 	lm.obs = std::move(obs);
 	return lm;
+}
+
+/** Re-association's inputs over `store` with gate distances from `table` (landmark ID, factor; absent:
+ * far outside) and positions from `at`. */
+using DistanceTable = std::map<std::pair<std::int32_t, FactorId>, double>;
+ReassociationInputs store_reassociation(const LandmarkStore& store, const DistanceTable& table,
+										const std::map<std::int32_t, Eigen::Vector3d>& at,
+										const std::set<VariableId>& in_prior)
+{
+	return {store,
+			[&table](const Landmark& lm, const Observation& o) {
+				const auto it = table.find({lm.id, o.factor});
+				return it == table.end() ? 1e6 : it->second;
+			},
+			[&at](const Landmark& lm) { return at.at(lm.id); },
+			[&in_prior](VariableId v) { return in_prior.count(v) > 0; },
+			7.8,
+			3};
 }
 }  // namespace
 
@@ -141,4 +162,40 @@ TEST(MatchReadings, EachReadingTakesItsCompatibleCandidateOrNone)
 	// Planar rows (x, y) only: the same answer.
 	pred.own.assign(2, 1e-2 * Eigen::MatrixXd::Identity(2, 2));
 	EXPECT_EQ(match_readings(readings, pred, 2, DataAssociation::Jcbb, 0.99, 2), (std::vector<int>{1, 0, -1}));
+}
+
+TEST(ReassociationMoves, AMisfitReadingMovesToTheLandmarkItFits)
+{
+	LandmarkStore store;
+	store.add(store_landmark(1, 100, {store_reading(1, 10), store_reading(2, 11)}));
+	store.add(store_landmark(2, 101, {store_reading(3, 12), store_reading(4, 13)}));
+	// Reading 13 is outside landmark 2's gate and inside landmark 1's, which has no reading of step 4.
+	const DistanceTable d{{{1, 10}, 0.5}, {{1, 11}, 0.5}, {{2, 12}, 0.5}, {{2, 13}, 50.0}, {{1, 13}, 1.0}};
+	const std::map<std::int32_t, Eigen::Vector3d> at{{1, Eigen::Vector3d(5, 0, 0)}, {2, Eigen::Vector3d(9, 0, 0)}};
+	std::vector<ReadingMove> moves = reassociation_moves(store_reassociation(store, d, at, {}));
+	ASSERT_EQ(moves.size(), 1u);
+	EXPECT_EQ(moves[0].from, 2);
+	EXPECT_EQ(moves[0].to, 1);
+	EXPECT_EQ(moves[0].factor, 13);
+	// Landmark 1 already has a reading of that step: a scan sees a landmark once.
+	store.at(1).held.push_back(store_reading(4));
+	EXPECT_TRUE(reassociation_moves(store_reassociation(store, d, at, {})).empty());
+}
+
+TEST(ReassociationMoves, ADuplicateMergesIntoTheOlderLandmarkUnlessInThePrior)
+{
+	LandmarkStore store;
+	store.add(store_landmark(1, 100, {store_reading(1, 10)}));
+	store.add(store_landmark(3, 102, {store_reading(5, 14)}));
+	const DistanceTable d{{{1, 10}, 0.5}, {{3, 14}, 0.5}, {{1, 14}, 2.0}};
+	const std::map<std::int32_t, Eigen::Vector3d> at{{1, Eigen::Vector3d(5, 0, 0)},
+													 {3, Eigen::Vector3d(5.01, 0, 0)}};
+	const std::vector<ReadingMove> moves = reassociation_moves(store_reassociation(store, d, at, {}));
+	ASSERT_EQ(moves.size(), 1u);
+	EXPECT_EQ(moves[0].from, 3);
+	EXPECT_EQ(moves[0].to, 1);
+	EXPECT_EQ(moves[0].factor, 14);
+	EXPECT_TRUE(reassociation_moves(store_reassociation(store, d, at, {102})).empty());  // in the prior
+	const std::map<std::int32_t, Eigen::Vector3d> far{{1, Eigen::Vector3d(5, 0, 0)}, {3, Eigen::Vector3d(8, 0, 0)}};
+	EXPECT_TRUE(reassociation_moves(store_reassociation(store, d, far, {})).empty());  // out of reach
 }

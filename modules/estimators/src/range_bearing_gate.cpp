@@ -19,7 +19,8 @@ void RangeBearingGraph::centre_gate(const std::vector<std::pair<std::int32_t, Ob
 {
 	std::vector<GatedReading> known;
 	for (const auto& [id, o] : readings)
-		if (const Landmark* lm = store_.find(id)) known.push_back({world_position(*lm), LandmarkStore::window_readings(*lm), &o});
+		if (const Landmark* lm = store_.find(id))
+			known.push_back({world_position(*lm), LandmarkStore::window_readings(*lm), &o});
 	const PoseRecord& newest = poses_.back();
 	gate_.centre_on(*smoother_.problem().variable(newest.var).manifold, smoother_.problem().value(newest.var),
 					newest.sensor, known);

@@ -10,8 +10,9 @@
  * in a LandmarkStore it holds, which callers see read-only through landmarks(); the χ² gate's maths
  * (distances, the newest pose's prediction and robust centre) in a ReadingGate. What the graph keeps of
  * the gate is the policy: which readings are tested when, and what becomes of those outside. Data
- * association's predictions of the landmarks come from a LandmarkPredictor; its decisions (which
- * landmark a reading is given, re-association's moves) stay in the graph.
+ * association's predictions of the landmarks come from a LandmarkPredictor, its decisions from
+ * match_readings (which landmark a reading is given) and reassociation_moves; the graph gathers
+ * their inputs and applies the decisions (IDs, factors moved, landmarks removed).
  *
  * Planar model (PoseModel::Planar): the same graph restricted to the plane (swba/factors/planar.h):
  * poses updated in (ρx, ρy, ωz), landmarks as world points updated in (x, y) at the sensor's height,
@@ -226,21 +227,6 @@ class RangeBearingGraph
 	void retest_held(std::size_t k, StepSummary& sum);
 	/** World XYZ of landmark `lm` at the current estimate. */
 	Eigen::Vector3d world_position(const Landmark& lm) const;
-	/** A reading (by its factor) that reassociate() moves from one landmark to another. */
-	struct ReadingMove
-	{
-		std::int32_t from, to;
-		FactorId factor;
-	};
-	/** The pose steps each landmark has a reading from (admitted or held): a scan sees a landmark once. */
-	std::map<std::int32_t, std::set<std::size_t>> steps_seen() const;
-	/** reassociate(): readings outside the gate of their landmark and inside another's; `seen_at` gains
-	 * each move's step. */
-	std::vector<ReadingMove> misfit_moves(std::map<std::int32_t, std::set<std::size_t>>& seen_at) const;
-	/** reassociate(): the readings of each duplicate landmark, to the older one they all fit; landmarks
-	 * that `moved` changes are left for the next step. */
-	std::vector<ReadingMove> duplicate_merges(const std::map<std::int32_t, std::set<std::size_t>>& seen_at,
-											  const std::vector<ReadingMove>& moved) const;
 	/** Counts readings the store dropped for good as excluded (and the unconfirmed among them). */
 	void count_dropped(const LandmarkStore::Dropped& d);
 	/** Adds the factor of `o` to `lm` and records it as admitted. */
