@@ -14,7 +14,7 @@ int RangeBearingGraph::keep_in_map(const std::set<VariableId>& vars)
 {
 	std::vector<const Landmark*> lms;
 	for (VariableId v : vars)
-		if (auto it = landmark_of_var_.find(v); it != landmark_of_var_.end()) lms.push_back(&landmarks_.at(it->second));
+		if (const Landmark* lm = store_.find_by_variable(v)) lms.push_back(lm);
 	if (lms.empty()) return 0;
 	// The marginal, not the covariance conditioned on the robot's pose when the landmark leaves: that
 	// one counts the error the landmark shares with the robot (and, through the window's prior, with
@@ -29,15 +29,14 @@ int RangeBearingGraph::keep_in_map(const std::set<VariableId>& vars)
 			lost++;
 			continue;
 		}
-		map_[id] = {e.position, C};
+		store_.keep_in_map(id, {e.position, C});
 	}
 	return lost;
 }
 
 Landmark& RangeBearingGraph::restore_from_map(std::int32_t id)
 {
-	const MapLandmark m = map_.at(id);
-	map_.erase(id);
+	const MapLandmark m = store_.take_from_map(id);
 	Problem& problem = smoother_.problem();
 	std::shared_ptr<const Manifold> manifold = euclidean_manifold(3);
 	if (model_ == PoseModel::Planar) manifold = planar_point_manifold();
@@ -46,7 +45,6 @@ Landmark& RangeBearingGraph::restore_from_map(std::int32_t id)
 	lm.id = id;
 	lm.world_xyz = true;
 	lm.var = problem.add_variable(m.position, manifold, Group::Eliminable);
-	landmark_of_var_[lm.var] = id;
 	// r = U (p ⊟ p_map) with UᵀU = Σ⁻¹: the marginal as a prior factor.
 	const Eigen::MatrixXd information = m.covariance.topLeftCorner(n, n).inverse();
 	const Eigen::MatrixXd U = Eigen::LLT<Eigen::MatrixXd>(0.5 * (information + information.transpose())).matrixU();
@@ -54,6 +52,6 @@ Landmark& RangeBearingGraph::restore_from_map(std::int32_t id)
 	smoother_.add_factor(std::make_shared<LinearPriorFactor>(U, Eigen::VectorXd::Zero(n), std::vector<std::vector<double>>{x},
 															 std::vector<std::shared_ptr<const Manifold>>{manifold}),
 						 {lm.var});
-	return landmarks_.emplace(id, std::move(lm)).first->second;
+	return store_.add(std::move(lm));
 }
 }  // namespace swba::estimators::detail

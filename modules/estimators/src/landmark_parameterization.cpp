@@ -30,8 +30,9 @@ bool inverse_depth_jacobian(const Factor& h, const double* const* xs, double* co
 }
 }  // namespace
 
-void RangeBearingGraph::convert_to_world_xyz(Landmark& lm)
+void RangeBearingGraph::convert_to_world_xyz(std::int32_t id)
 {
+	Landmark& lm = store_.at(id);
 	Problem& problem = smoother_.problem();
 	const std::size_t a = lm.anchor_step;
 	const VariableId va = poses_[a].var, vl = lm.var;
@@ -63,8 +64,9 @@ void RangeBearingGraph::convert_to_world_xyz(Landmark& lm)
 	replace_landmark_variable(lm, vp);
 }
 
-void RangeBearingGraph::reanchor(Landmark& lm, std::size_t b)
+void RangeBearingGraph::reanchor(std::int32_t id, std::size_t b)
 {
+	Landmark& lm = store_.at(id);
 	Problem& problem = smoother_.problem();
 	const std::size_t a = lm.anchor_step;
 	const Eigen::Vector3d lam = Eigen::Map<const Eigen::Vector3d>(problem.value(lm.var));

@@ -2,74 +2,28 @@
 // solve, or after each batch solve) and what the counts say. doc/outliers.md explains the choices.
 #include "range_bearing_graph.h"
 
-#include <Eigen/Cholesky>
-#include <Eigen/LU>
-
 #include <algorithm>
-#include <limits>
 #include <stdexcept>
 #include <string>
 
 namespace swba::estimators::detail
 {
-bool RangeBearingGraph::reading_residual(const Eigen::Vector3d& p, const Observation& o, const double* pose_x,
-										 Eigen::VectorXd& r, RowMajorMatrix* JT) const
-{
-	const auto& P = poses_[o.pose_step];
-	const auto f = model_reading_factor(std::make_shared<RangeBearingXyzFactor>(o.z, P.sensor), o);
-	const double* x[2] = {pose_x ? pose_x : smoother_.problem().value(P.var), p.data()};
-	r.resize(f->residual_dim());
-	if (JT) JT->resize(f->residual_dim(), smoother_.problem().variable(P.var).manifold->tangent_size());
-	double* jac[2] = {JT ? JT->data() : nullptr, nullptr};
-	return f->evaluate(x, r.data(), jac) && r.allFinite();
-}
-
 double RangeBearingGraph::innovation_distance(const Eigen::Vector3d& p, std::size_t n, const Observation& o,
 											  const Eigen::MatrixXd* pose_cov, const double* pose_x) const
 {
-	Eigen::VectorXd r;
-	RowMajorMatrix JT;
-	if (!reading_residual(p, o, pose_x, r, pose_cov ? &JT : nullptr)) return std::numeric_limits<double>::infinity();
-	Eigen::MatrixXd S = reading_sigma(o).cwiseAbs2().asDiagonal();
-	S *= 1.0 + 1.0 / static_cast<double>(std::max<std::size_t>(n, 1));
-	if (pose_cov) S += JT * (*pose_cov) * JT.transpose();
-	return r.dot(S.ldlt().solve(r));
+	const auto& P = poses_[o.pose_step];
+	return gate_.distance(p, n, o, P.sensor, pose_x ? pose_x : smoother_.problem().value(P.var), pose_cov);
 }
 
 void RangeBearingGraph::centre_gate(const std::vector<std::pair<std::int32_t, Observation>>& readings)
 {
-	const VariableId v = poses_.back().var;
-	const Manifold& M = *smoother_.problem().variable(v).manifold;
-	const int d = M.tangent_size();
-	const double* x0 = smoother_.problem().value(v);
-	gate_centre_.assign(x0, x0 + M.ambient_size());
-	const Eigen::MatrixXd P_inv = newest_pose_cov_.inverse();
-	std::vector<double> next(gate_centre_.size());
-	Eigen::VectorXd delta(d), r;
-	RowMajorMatrix JT;
-	constexpr int kMaxIterations = 10;
-	for (int it = 0; it < kMaxIterations; it++)
-	{
-		M.minus(gate_centre_.data(), x0, delta.data());
-		Eigen::MatrixXd A = P_inv;
-		Eigen::VectorXd g = P_inv * delta;
-		for (const auto& [id, o] : readings)
-		{
-			const auto lm = landmarks_.find(id);
-			if (lm == landmarks_.end()) continue;
-			if (!reading_residual(world_position(lm->second), o, gate_centre_.data(), r, &JT)) continue;
-			const double n = static_cast<double>(std::max<std::size_t>(window_readings(lm->second), 1));
-			const Eigen::VectorXd s_inv = reading_sigma(o).cwiseAbs2().cwiseInverse() / (1.0 + 1.0 / n);
-			const double w = 1.0 / (1.0 + r.dot(s_inv.cwiseProduct(r)) / gate_threshold_);  // Cauchy
-			A.noalias() += w * JT.transpose() * s_inv.asDiagonal() * JT;
-			g.noalias() += w * JT.transpose() * s_inv.cwiseProduct(r);
-		}
-		const Eigen::VectorXd step = -A.ldlt().solve(g);
-		if (!step.allFinite()) break;
-		M.plus(gate_centre_.data(), step.data(), next.data());
-		gate_centre_.swap(next);
-		if (step.norm() < 1e-10) break;
-	}
+	std::vector<GatedReading> known;
+	for (const auto& [id, o] : readings)
+		if (const Landmark* lm = store_.find(id))
+			known.push_back({world_position(*lm), LandmarkStore::window_readings(*lm), &o});
+	const PoseRecord& newest = poses_.back();
+	gate_.centre_on(*smoother_.problem().variable(newest.var).manifold, smoother_.problem().value(newest.var),
+					newest.sensor, known);
 }
 
 Eigen::Vector3d RangeBearingGraph::world_position(const Landmark& lm) const
@@ -83,16 +37,15 @@ Eigen::Vector3d RangeBearingGraph::world_position(const Landmark& lm) const
 double RangeBearingGraph::gate_distance(const Landmark& lm, const Observation& o, const Eigen::MatrixXd* pose_cov,
 									   const double* pose_x) const
 {
-	return innovation_distance(world_position(lm), window_readings(lm), o, pose_cov, pose_x);
+	return innovation_distance(world_position(lm), LandmarkStore::window_readings(lm), o, pose_cov, pose_x);
 }
 
 void RangeBearingGraph::admit_reading(std::int32_t id, const Observation& o, StepSummary& sum)
 {
-	auto it = landmarks_.find(id);
-	if (it != landmarks_.end())
+	if (Landmark* found = store_.find(id))
 	{
-		Landmark& lm = it->second;
-		if (gate_distance(lm, o, &newest_pose_cov_, gate_centre_.data()) <= gate_threshold_)
+		Landmark& lm = *found;
+		if (gate_distance(lm, o, &gate_.prediction_covariance(), gate_.centre()) <= gate_.threshold())
 			admit(lm, o);
 		else
 		{
@@ -104,12 +57,12 @@ void RangeBearingGraph::admit_reading(std::int32_t id, const Observation& o, Ste
 	}
 	// A landmark not in the graph: find the newest waiting first reading that agrees with this one.
 	const Problem& problem = smoother_.problem();
-	auto& waiting = unconfirmed_[id];
+	auto& waiting = store_.waiting(id);
 	for (auto c = waiting.rbegin(); c != waiting.rend(); ++c)
 	{
 		const auto& C = poses_[c->pose_step];
 		const Eigen::Vector3d p = inverse_depth_to_world(problem.value(C.var), C.sensor, inverse_depth_from_measurement(c->z));
-		if (innovation_distance(p, 1, o, &newest_pose_cov_, gate_centre_.data()) > gate_threshold_) continue;
+		if (innovation_distance(p, 1, o, &gate_.prediction_covariance(), gate_.centre()) > gate_.threshold()) continue;
 		Landmark& lm = add_landmark(id, *c);
 		admit(lm, *c);
 		admit(lm, o);
@@ -118,7 +71,7 @@ void RangeBearingGraph::admit_reading(std::int32_t id, const Observation& o, Ste
 			if (&other != &*c) lm.held.push_back(other);
 		sum.gated += static_cast<int>(waiting.size() - 1);
 		counts_.gated += waiting.size() - 1;
-		unconfirmed_.erase(id);
+		store_.confirm(id);
 		return;
 	}
 	waiting.push_back(o);
@@ -126,18 +79,17 @@ void RangeBearingGraph::admit_reading(std::int32_t id, const Observation& o, Ste
 
 void RangeBearingGraph::admit_associated(std::int32_t id, const Observation& o)
 {
-	auto it = landmarks_.find(id);
-	if (it != landmarks_.end())
+	if (Landmark* lm = store_.find(id))
 	{
-		admit(it->second, o);
+		admit(*lm, o);
 		return;
 	}
 	// A provisional landmark: association gives each unmatched reading its own ID, so it waits alone.
-	auto waiting = unconfirmed_.find(id);
-	if (waiting == unconfirmed_.end() || waiting->second.size() != 1)
+	const std::vector<Observation>* waiting = store_.find_waiting(id);
+	if (!waiting || waiting->size() != 1)
 		throw std::logic_error("admit_associated: landmark " + std::to_string(id) + " is neither in the graph nor provisional");
-	const Observation first = waiting->second.front();
-	unconfirmed_.erase(waiting);
+	const Observation first = waiting->front();
+	store_.confirm(id);
 	Landmark& lm = add_landmark(id, first);
 	admit(lm, first);
 	admit(lm, o);
@@ -145,11 +97,11 @@ void RangeBearingGraph::admit_associated(std::int32_t id, const Observation& o)
 
 void RangeBearingGraph::readmit_held(StepSummary& sum)
 {
-	for (auto& [id, lm] : landmarks_)
+	for (auto& [id, lm] : store_)
 	{
 		std::vector<Observation> still;
 		for (const auto& h : lm.held)
-			if (gate_distance(lm, h, nullptr) <= gate_threshold_)
+			if (gate_distance(lm, h, nullptr) <= gate_.threshold())
 			{
 				admit(lm, h);
 				sum.readmitted++;
@@ -161,71 +113,21 @@ void RangeBearingGraph::readmit_held(StepSummary& sum)
 	}
 }
 
-void RangeBearingGraph::expire_readings_at(std::size_t k)
-{
-	const auto at_k = [k](const Observation& o) { return o.pose_step == k; };
-	for (auto& [id, lm] : landmarks_)
-	{
-		const auto end = std::remove_if(lm.held.begin(), lm.held.end(), at_k);
-		counts_.excluded += static_cast<std::size_t>(lm.held.end() - end);
-		lm.held.erase(end, lm.held.end());
-	}
-	for (auto it = unconfirmed_.begin(); it != unconfirmed_.end();)
-	{
-		auto& w = it->second;
-		const auto end = std::remove_if(w.begin(), w.end(), at_k);
-		const auto dropped = static_cast<std::size_t>(w.end() - end);
-		counts_.unconfirmed += dropped;
-		counts_.excluded += dropped;
-		w.erase(end, w.end());
-		it = w.empty() ? unconfirmed_.erase(it) : std::next(it);
-	}
-}
+void RangeBearingGraph::expire_readings_at(std::size_t k) { count_dropped(store_.drop_readings_at(k)); }
 
-void RangeBearingGraph::hold_tail_readings(std::size_t k)
-{
-	std::vector<std::pair<std::int32_t, std::size_t>> read;
-	for (auto& [id, lm] : landmarks_)
-	{
-		const auto n = static_cast<std::size_t>(
-			std::count_if(lm.obs.begin(), lm.obs.end(), [k](const Observation& o) { return o.pose_step == k; }));
-		if (n == 0) continue;
-		lm.tail_readings += n;
-		read.emplace_back(id, n);
-	}
-	tail_readings_.push_back(std::move(read));
-}
+void RangeBearingGraph::finish_counts() { count_dropped(store_.drop_pending()); }
 
-void RangeBearingGraph::release_tail_readings()
+void RangeBearingGraph::count_dropped(const LandmarkStore::Dropped& d)
 {
-	if (tail_readings_.empty()) return;
-	for (const auto& [id, n] : tail_readings_.front())
-	{
-		const auto it = landmarks_.find(id);
-		if (it != landmarks_.end()) it->second.tail_readings -= std::min(n, it->second.tail_readings);
-	}
-	tail_readings_.pop_front();
-}
-
-void RangeBearingGraph::finish_counts()
-{
-	for (auto& [id, lm] : landmarks_)
-	{
-		counts_.excluded += lm.held.size();
-		lm.held.clear();
-	}
-	for (const auto& [id, w] : unconfirmed_)
-	{
-		counts_.unconfirmed += w.size();
-		counts_.excluded += w.size();
-	}
-	unconfirmed_.clear();
+	counts_.excluded += d.held;
+	counts_.unconfirmed += d.unconfirmed;
+	counts_.excluded += d.unconfirmed;
 }
 
 bool RangeBearingGraph::regate_all()
 {
 	bool changed = false;
-	for (auto& [id, lm] : landmarks_)
+	for (auto& [id, lm] : store_)
 	{
 		std::vector<Observation> all = lm.obs;
 		all.insert(all.end(), lm.held.begin(), lm.held.end());
@@ -236,7 +138,7 @@ bool RangeBearingGraph::regate_all()
 		std::vector<Observation> obs, held;
 		for (std::size_t i = 0; i < all.size(); i++)
 		{
-			const bool in = d[i] <= gate_threshold_ || i == best;
+			const bool in = d[i] <= gate_.threshold() || i == best;
 			const bool was_in = all[i].factor >= 0;
 			if (in == was_in)
 			{
@@ -258,7 +160,7 @@ bool RangeBearingGraph::regate_all()
 		lm.held = std::move(held);
 	}
 	counts_.gated = 0;
-	for (const auto& [id, lm] : landmarks_) counts_.gated += lm.held.size();
+	for (const auto& [id, lm] : store_) counts_.gated += lm.held.size();
 	counts_.excluded = counts_.gated;
 	return changed;
 }
@@ -266,7 +168,7 @@ bool RangeBearingGraph::regate_all()
 void RangeBearingGraph::set_reading_loss(std::shared_ptr<const LossFunction> loss)
 {
 	loss_ = std::move(loss);
-	for (auto& [id, lm] : landmarks_)
+	for (auto& [id, lm] : store_)
 		for (auto& o : lm.obs)
 		{
 			smoother_.problem().remove_factor(o.factor);
@@ -300,7 +202,7 @@ int RangeBearingGraph::count_down_weighted(const std::set<FactorId>& factors) co
 std::set<FactorId> RangeBearingGraph::reading_factors_leaving(std::size_t k, const std::set<VariableId>& leaving) const
 {
 	std::set<FactorId> out;
-	for (const auto& [id, lm] : landmarks_)
+	for (const auto& [id, lm] : store_)
 		for (const auto& o : lm.obs)
 			if (o.pose_step == k || leaving.count(lm.var)) out.insert(o.factor);
 	return out;

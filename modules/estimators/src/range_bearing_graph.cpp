@@ -61,7 +61,7 @@ void RangeBearingGraph::initialise(PoseModel model)
 	model_ = model;
 	loss_ = opt_.reading_loss(reading_dof());
 	robust_scale_sq_ = opt_.robust_scale_squared(reading_dof());
-	gate_threshold_ = opt_.gate_threshold(reading_dof());
+	gate_ = ReadingGate(model_, opt_.gate_threshold(reading_dof()));
 	const VariableId v0 = add_pose_variable(mrpt::poses::CPose3D());
 	poses_.push_back({0.0, v0, mrpt::poses::CPose3D()});
 	step_of_[v0] = 0;
@@ -94,16 +94,15 @@ mrpt::poses::CPose3D RangeBearingGraph::pose(VariableId var) const
 
 bool RangeBearingGraph::is_world_point(VariableId v) const
 {
-	auto it = landmark_of_var_.find(v);
-	return it != landmark_of_var_.end() &&
-		(opt_.landmarks == LandmarkParameterization::Xyz || landmarks_.at(it->second).world_xyz);
+	const Landmark* lm = store_.find_by_variable(v);
+	return lm && (opt_.landmarks == LandmarkParameterization::Xyz || lm->world_xyz);
 }
 
 std::map<std::int32_t, Eigen::Vector3d> RangeBearingGraph::landmark_positions() const
 {
 	std::map<std::int32_t, Eigen::Vector3d> out;
-	for (const auto& [id, lm] : landmarks_) out[id] = world_position(lm);
-	for (const auto& [id, m] : map_) out[id] = m.position;  // never in the state as well
+	for (const auto& [id, lm] : store_) out[id] = world_position(lm);
+	for (const auto& [id, m] : store_.map()) out[id] = m.position;  // never in the state as well
 	return out;
 }
 
@@ -127,15 +126,7 @@ FactorId RangeBearingGraph::add_observation_factor(const Landmark& lm, const Obs
 		f = std::make_shared<RangeBearingInverseDepthFactor>(o.z, P.sensor, poses_[lm.anchor_step].sensor);
 		vars = {poses_[lm.anchor_step].var, P.var, lm.var};
 	}
-	return smoother_.add_factor(model_reading_factor(f, o), vars, loss_);
-}
-
-std::shared_ptr<Factor> RangeBearingGraph::model_reading_factor(std::shared_ptr<Factor> f, const Observation& o) const
-{
-	// Planar: range and yaw only, a 2D sensor measures no pitch (its row is identically 0 on the plane).
-	if (model_ == PoseModel::Planar) f = planar(f, {0, 1}, {true, false});
-	f->set_information(reading_sigma(o).cwiseInverse().cwiseAbs2().asDiagonal().toDenseMatrix());
-	return f;
+	return smoother_.add_factor(model_reading_factor(model_, f, gate_.reading_sigma(o)), vars, loss_);
 }
 
 Landmark& RangeBearingGraph::add_landmark(std::int32_t id, const Observation& o)
@@ -160,8 +151,7 @@ Landmark& RangeBearingGraph::add_landmark(std::int32_t id, const Observation& o)
 	std::shared_ptr<const Manifold> manifold = euclidean_manifold(3);
 	if (model_ == PoseModel::Planar) manifold = planar_point_manifold();
 	lm.var = problem.add_variable(x0, std::move(manifold), Group::Eliminable);
-	landmark_of_var_[lm.var] = lm.id;
-	return landmarks_.emplace(lm.id, std::move(lm)).first->second;
+	return store_.add(std::move(lm));
 }
 
 Eigen::MatrixXd RangeBearingGraph::add_odometry_factor(const io::RawlogStep& step, VariableId vprev, VariableId vnew)
@@ -201,7 +191,7 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 	if (step.readings.empty()) return;
 	if (association_ == DataAssociation::Auto) association_ = resolve_association(opt_.association, step);
 	const bool associating = association_ != DataAssociation::Ids;
-	if (gate_on_entry_ || associating) newest_pose_cov_ = odo_info.inverse();
+	if (gate_on_entry_ || associating) gate_.set_prediction_covariance(odo_info.inverse());
 	Eigen::Vector3d sigma;
 	if (model_ == PoseModel::Planar)
 		sigma << opt_.sensor.resolve_range_yaw(step), 0.0;
@@ -224,7 +214,7 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 		}
 	if (opt_.policy == LandmarkPolicy::Map)
 		for (const auto& [id, o] : readings)
-			if (!landmarks_.count(id) && map_.count(id))
+			if (!store_.find(id) && store_.in_map(id))
 			{
 				restore_from_map(id);
 				sum.landmarks_from_map++;
@@ -250,8 +240,8 @@ void RangeBearingGraph::admit_step_readings(const std::vector<std::pair<std::int
 				admit_reading(id, o, sum);
 			continue;
 		}
-		auto it = landmarks_.find(id);
-		admit(it == landmarks_.end() ? add_landmark(id, o) : it->second, o);
+		Landmark* lm = store_.find(id);
+		admit(lm ? *lm : add_landmark(id, o), o);
 	}
 }
 
@@ -274,30 +264,17 @@ void RangeBearingGraph::admit(Landmark& lm, Observation o)
 
 bool RangeBearingGraph::forget_landmark(VariableId v)
 {
-	auto it = landmark_of_var_.find(v);
-	if (it == landmark_of_var_.end()) return false;
-	const std::size_t held = landmarks_.at(it->second).held.size();
+	std::size_t held = 0;
+	if (!store_.forget(v, held)) return false;
 	counts_.excluded += held;
-	landmarks_.erase(it->second);
-	landmark_of_var_.erase(it);
 	return true;
-}
-
-void RangeBearingGraph::forget_observations(const std::set<FactorId>& removed)
-{
-	for (auto& [id, lm] : landmarks_)
-		lm.obs.erase(std::remove_if(lm.obs.begin(), lm.obs.end(),
-									[&](const Observation& ob) { return removed.count(ob.factor) > 0; }),
-					 lm.obs.end());
 }
 
 void RangeBearingGraph::replace_landmark_variable(Landmark& lm, VariableId v)
 {
 	for (auto& o : lm.obs) smoother_.problem().remove_factor(o.factor);
-	landmark_of_var_.erase(lm.var);
 	smoother_.problem().remove_variable(lm.var);
-	lm.var = v;
-	landmark_of_var_[v] = lm.id;
+	store_.rebind(lm, v);
 	for (auto& o : lm.obs) o.factor = add_observation_factor(lm, o);
 }
 }  // namespace swba::estimators::detail

@@ -5,10 +5,23 @@
  * XYZ), one range-bearing factor per reading. The window (SlidingWindowEstimator) and the batch run
  * (run_batch) are both built on it.
  *
+ * The graph owns the smoother's problem and is the only one to change it; the landmarks' records and
+ * their readings' bookkeeping (held, unconfirmed, the linear tail's counts, the map policy's map) live
+ * in a LandmarkStore it holds, which callers see read-only through landmarks(); the χ² gate's maths
+ * (distances, the newest pose's prediction and robust centre) in a ReadingGate. What the graph keeps of
+ * the gate is the policy: which readings are tested when, and what becomes of those outside. Data
+ * association's predictions of the landmarks come from a LandmarkPredictor, its decisions from
+ * match_readings (which landmark a reading is given) and reassociation_moves; the graph gathers
+ * their inputs and applies the decisions (IDs, factors moved, landmarks removed).
+ *
  * Planar model (PoseModel::Planar): the same graph restricted to the plane (swba/factors/planar.h):
  * poses updated in (ρx, ρy, ωz), landmarks as world points updated in (x, y) at the sensor's height,
  * odometry factors on (ρx, ρy, ωz) with the 3×3 planar information, readings on (range, yaw). */
 #pragma once
+
+#include "landmark_prediction.h"
+#include "landmark_store.h"
+#include "reading_gate.h"
 
 #include <swba/estimators/data_association.h>
 #include <swba/estimators/sliding_window.h>
@@ -17,7 +30,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <deque>
 #include <map>
 #include <set>
 #include <string>
@@ -25,44 +37,6 @@
 
 namespace swba::estimators::detail
 {
-struct Observation
-{
-	std::size_t pose_step;  ///< index into poses() (0 = initial pose)
-	RangeBearingMeasurement z;
-	Eigen::Vector3d sigma;
-	FactorId factor = -1;
-	std::size_t reading = 0;  ///< index among its step's readings (assigned_ids()[pose_step][reading])
-};
-
-struct Landmark
-{
-	std::int32_t id;
-	VariableId var;
-	std::size_t anchor_step = 0;  ///< inverse depth only
-	/** Inverse-depth mode: the landmark was in the marginal prior when its anchor left the window, so it
-	 * was switched to world XYZ (a parameterisation no later marginalisation has to change). */
-	bool world_xyz = false;
-	std::vector<Observation> obs;  ///< observations whose factors are still in the problem
-	/** Readings of poses in the smoother's linear tail (still in the window W, no longer factors). */
-	std::size_t tail_readings = 0;
-	/** Readings held out by the χ² gate whose pose is still in the window (no factor). */
-	std::vector<Observation> held;
-};
-
-/** Map policy: a landmark that left the state, as its marginal when it left. */
-struct MapLandmark
-{
-	Eigen::Vector3d position;
-	Eigen::Matrix3d covariance;  ///< of the world position (planar: z row and column zero)
-};
-
-struct PoseRecord
-{
-	double time;
-	VariableId var;
-	mrpt::poses::CPose3D sensor;  ///< sensor pose on the robot at this step
-};
-
 class RangeBearingGraph
 {
    public:
@@ -111,12 +85,10 @@ class RangeBearingGraph
 	 * dropped for good (counted). */
 	void expire_readings_at(std::size_t k);
 	/** The readings of pose step k (leaving the re-linearised poses for the linear tail) still count
-	 * for their landmarks' gate (window_readings) until release_tail_readings() at lag W. */
-	void hold_tail_readings(std::size_t k);
+	 * for their landmarks' gate (LandmarkStore::window_readings) until release_tail_readings() at lag W. */
+	void hold_tail_readings(std::size_t k) { store_.hold_tail_readings(k); }
 	/** The oldest pose of the linear tail left the window: its readings no longer count. */
-	void release_tail_readings();
-	/** Readings of `lm` in the window W: its factors' and those of the linear tail's poses. */
-	static std::size_t window_readings(const Landmark& lm) { return lm.obs.size() + lm.tail_readings; }
+	void release_tail_readings() { store_.release_tail_readings(); }
 	/** Batch: re-tests every reading against the current estimate; readings outside the gate lose their
 	 * factor, held ones inside it get one back (a landmark keeps at least its best-fitting reading).
 	 * Returns whether the admitted set changed. */
@@ -148,9 +120,9 @@ class RangeBearingGraph
 	const std::vector<PoseRecord>& poses() const { return poses_; }
 	/** Step of the pose variable `var`. */
 	std::size_t step_of(VariableId pose_var) const { return step_of_.at(pose_var); }
-	std::map<std::int32_t, Landmark>& landmarks() { return landmarks_; }
-	const std::map<std::int32_t, Landmark>& landmarks() const { return landmarks_; }
-	bool is_landmark(VariableId v) const { return landmark_of_var_.count(v) > 0; }
+	/** The landmarks in the state, by ID (changed only through the graph). */
+	const LandmarkStore& landmarks() const { return store_; }
+	bool is_landmark(VariableId v) const { return store_.is_landmark(v); }
 	/** How the smoother handles `v` while only its prior touches it: landmarks are eliminated, or stored
 	 * with the SLAM policy and known IDs (SlidingWindowOptions::eliminate_prior_only_landmarks). */
 	smoother::PriorOnly prior_only(VariableId v) const;
@@ -166,17 +138,17 @@ class RangeBearingGraph
 	 * covariance not recovered or not positive definite): they are forgotten, as ConstantTime does. */
 	int keep_in_map(const std::set<VariableId>& vars);
 	/** Drops the observations whose factors are in `removed`. */
-	void forget_observations(const std::set<FactorId>& removed);
+	void forget_observations(const std::set<FactorId>& removed) { store_.forget_observations(removed); }
 
-	/** Re-anchors inverse-depth landmark `lm`, which is not in the marginal prior, to pose step `b`: an
+	/** Re-anchors inverse-depth landmark `id`, which is not in the marginal prior, to pose step `b`: an
 	 * exact rewrite of its factors. (A landmark in the prior is switched to world XYZ instead.) */
-	void reanchor(Landmark& lm, std::size_t b);
-	/** Switches inverse-depth landmark `lm`, which is in the marginal prior and whose anchor a is about
+	void reanchor(std::int32_t id, std::size_t b);
+	/** Switches inverse-depth landmark `id`, which is in the marginal prior and whose anchor a is about
 	 * to be marginalised, to world XYZ p: an exact rewrite of its factors, and a first-order change of
 	 * variables λ = g(T_a, p) (p seen from a's sensor, as inverse depth) in the prior, at the first
 	 * estimates. T_a is marginalised right after, so the prior never depends on a re-anchoring again:
 	 * a landmark in the prior changes parameterisation once, not every time its anchor leaves. */
-	void convert_to_world_xyz(Landmark& lm);
+	void convert_to_world_xyz(std::int32_t id);
 
 	/** The six global rigid motions p ↦ p + u + w × p (columns [u, w]) in the tangent coordinates of
 	 * variable `v` at value `x`: a pose's right perturbation, a world point's offset; zero rows for an
@@ -218,11 +190,6 @@ class RangeBearingGraph
 	/** Adds the odometry factor of `step` between `vprev` and `vnew`; returns its information (6×6 on
 	 * the SE(3) tangent, planar: 3×3 on (ρx, ρy, ωz)), which the gate also uses. */
 	Eigen::MatrixXd add_odometry_factor(const io::RawlogStep& step, VariableId vprev, VariableId vnew);
-	/** Reading factor `f` (rows range, yaw, pitch) as the model takes it, with the information of its
-	 * rows' sensor noise: planar keeps rows (range, yaw) on pose (ρx, ρy, ωz) and landmark (x, y). */
-	std::shared_ptr<Factor> model_reading_factor(std::shared_ptr<Factor> f, const Observation& o) const;
-	/** The sensor noise of the rows the model keeps: (range, yaw, pitch), planar (range, yaw). */
-	Eigen::VectorXd reading_sigma(const Observation& o) const { return o.sigma.head(reading_dof()); }
 	/** The χ² gate step of a reading on arrival (gate_on_entry): a reading of a known landmark enters
 	 * or is held; the first reading of a landmark waits for a consistent second one. */
 	void admit_reading(std::int32_t id, const Observation& o, StepSummary& sum);
@@ -231,89 +198,29 @@ class RangeBearingGraph
 	 * covariance, so it enters without admit_reading's test (whose odometry-only pose covariance would
 	 * hold every reading of a landmark seen again after a long stretch of dead reckoning). */
 	void admit_associated(std::int32_t id, const Observation& o);
-	using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-	/** Residual (reading_dof rows, not whitened) of reading `o` against world point `p` with its pose
-	 * at `pose_x` (null: the pose's current value), and optionally ∂r/∂T on the pose's tangent. */
-	bool reading_residual(const Eigen::Vector3d& p, const Observation& o, const double* pose_x, Eigen::VectorXd& r,
-						  RowMajorMatrix* JT) const;
-	/** Squared Mahalanobis distance of reading `o` (taken at pose step o.pose_step) against the world
-	 * point `p`, whose estimate averages `n` readings, with the pose at `pose_x` (null: its current
-	 * estimate). Innovation covariance: the sensor noise R, the point's R/n (an approximation that
-	 * avoids a marginal covariance), and the pose's `pose_cov` (on the pose variable's tangent; null:
-	 * none) through ∂h/∂T. reading_dof rows. */
+	/** ReadingGate::distance of reading `o`, taken at pose step o.pose_step, against the world point
+	 * `p` (whose estimate averages `n` readings), with the pose at `pose_x` (null: its current value). */
 	double innovation_distance(const Eigen::Vector3d& p, std::size_t n, const Observation& o,
 							   const Eigen::MatrixXd* pose_cov, const double* pose_x = nullptr) const;
 	/** innovation_distance of `o` against landmark `lm`'s current estimate. */
 	double gate_distance(const Landmark& lm, const Observation& o, const Eigen::MatrixXd* pose_cov,
 						 const double* pose_x = nullptr) const;
-	/** Sets gate_centre_: the newest pose estimated from its odometry prediction (covariance
-	 * newest_pose_cov_) and the `readings` (landmark ID, reading) of landmarks already in the graph,
-	 * held at their estimates, under a Cauchy loss at the gate's radius (Gauss-Newton, ≤ 10
-	 * iterations). Gating at the dead-reckoned pose instead holds every good reading of a step whose
-	 * odometry drew a 3-4σ error (each reading then sits at the gate's edge, all sharing one pose
-	 * error), and the pose is left to odometry alone; the robust centre follows the readings' consensus
-	 * and a gross reading still falls outside. */
+	/** Centres the gate (ReadingGate::centre_on) on the newest pose from the `readings` (landmark ID,
+	 * reading) of landmarks already in the graph, held at their current estimates. */
 	void centre_gate(const std::vector<std::pair<std::int32_t, Observation>>& readings);
 	/** Gives every reading of the newest step (`readings`, ID field −1 or ignored) a landmark ID by
 	 * data association (association()): the graph's landmarks and the provisional ones (first readings
 	 * waiting for confirmation) are predicted in the new pose's sensor frame at its dead-reckoned value,
-	 * with the odometry's covariance newest_pose_cov_ shared by all predictions and each landmark's own
-	 * approximated by the reading noise / (its readings); an unmatched reading gets a new ID. */
+	 * with their joint covariance from the window's (predict_jointly); an unmatched reading gets a new
+	 * ID. */
 	void associate_readings(std::vector<std::pair<std::int32_t, Observation>>& readings,
 							std::vector<std::int32_t>& assigned, std::vector<bool>& matched);
-	/** What predict_jointly predicts: a graph landmark, a provisional one (its first reading), or a
-	 * landmark of the map (map policy; its marginal is its own noise, it depends on no window variable). */
-	struct PredictionTarget
-	{
-		const Landmark* lm;
-		const Observation* first;
-		const MapLandmark* map = nullptr;
-	};
-	/** Targets predicted in the sensor frame of pose step k (at its current, dead-reckoned value) with
-	 * their joint covariance: Jacobian × the window's joint marginal covariance of the new pose and the
-	 * variables the targets depend on × Jacobianᵀ, plus a provisional target's reading noise. */
-	struct JointPrediction
-	{
-		bool ok = false;
-		std::string message;               ///< why the covariance could not be recovered
-		std::vector<Eigen::Vector3d> points;  ///< per target, in the sensor frame
-		Eigen::MatrixXd jacobian;          ///< (targets × reading_dof) × the group's tangent
-		Eigen::MatrixXd covariance;        ///< the group's joint covariance
-		std::vector<Eigen::MatrixXd> own;  ///< per target, noise that is not a window variable's
-		/** Per target, the column ranges (first, size) of `jacobian` its rows may be non-zero in: the new
-		 * pose's and its own variables'. */
-		std::vector<std::vector<std::pair<int, int>>> support;
-		/** The reading_dof-sized block (a, b) of the predictions' joint covariance,
-		 * J_a Σ J_bᵀ over the two targets' supports only (O(dim² · support²), not O(dim · D²)). */
-		Eigen::MatrixXd covariance_of(int a, int b, int dim) const;
-	};
+	/** The joint prediction of `targets` in the sensor frame of pose step k (LandmarkPredictor), with
+	 * the joint covariance of the variables it needs from covariances(). */
 	JointPrediction predict_jointly(std::size_t k, const std::vector<PredictionTarget>& targets);
-	/** predict_jointly() for target j (`vars`: its variables; `at`: their first columns in the group). */
-	void predict_one(std::size_t k, const PredictionTarget& t, const std::vector<VariableId>& vars,
-					 const std::map<VariableId, int>& at, int j, JointPrediction& out) const;
-	/** The rows of target `t`'s prediction (sensor frame of pose step k) over the tangent of variable
-	 * `v`, by central differences, written into `J` (reading_dof × v's tangent size). */
-	void target_jacobian(std::size_t k, const PredictionTarget& t, VariableId v, Eigen::Ref<Eigen::MatrixXd> J) const;
 	/** The candidates of data association (the graph's landmarks, the provisional ones, the map's) and
 	 * their IDs in `ids`, in that order. */
 	std::vector<PredictionTarget> association_candidates(std::vector<std::int32_t>& ids) const;
-	/** The candidates individually compatible (inside `gate`) with some reading of `prob`, each reading
-	 * keeping its few nearest, in increasing order. */
-	static std::vector<int> compatible_candidates(const AssociationProblem& prob, const JointPrediction& pred,
-												  std::size_t num_candidates, double gate);
-	/** The window variables target `t`'s world point depends on. */
-	std::vector<VariableId> target_variables(const PredictionTarget& t) const;
-	/** Target `t` in the sensor frame of pose step k, with variable `v` at `xv` (v < 0: every variable
-	 * at its current value; pose k's is its dead-reckoned one before the step's solve). */
-	Eigen::Vector3d predict_target(std::size_t k, const PredictionTarget& t, VariableId v, const double* xv) const;
-	/** A provisional target's noise in the sensor frame of pose step k: its first reading's, rotated
-	 * (reading_dof-sized). */
-	Eigen::MatrixXd provisional_noise(std::size_t k, const Observation& first) const;
-	/** A map target's noise in the sensor frame of pose step k: its map covariance, rotated
-	 * (reading_dof-sized). */
-	Eigen::MatrixXd map_noise(std::size_t k, const MapLandmark& m) const;
-	/** The sensor's pose in the world at pose step k (the pose's current value). */
-	mrpt::poses::CPose3D sensor_in_world(std::size_t k) const;
 	/** Known IDs: the readings of step k that admit_reading held (its pose covariance is the odometry's
 	 * alone) are tested again against the window's joint covariance (predict_jointly); those inside the
 	 * gate enter now. After a long stretch without readings the drift is far beyond one step's
@@ -321,26 +228,10 @@ class RangeBearingGraph
 	 * pose would follow the odometry until a solve re-admitted them. Costs a covariance recovery on the
 	 * steps that held a reading only. */
 	void retest_held(std::size_t k, StepSummary& sum);
-	/** World point `p` in the frame of `sensor` on the robot at `pose_x`. */
-	Eigen::Vector3d in_sensor_frame(const double* pose_x, const mrpt::poses::CPose3D& sensor,
-									const Eigen::Vector3d& p) const;
 	/** World XYZ of landmark `lm` at the current estimate. */
 	Eigen::Vector3d world_position(const Landmark& lm) const;
-	/** A reading (by its factor) that reassociate() moves from one landmark to another. */
-	struct ReadingMove
-	{
-		std::int32_t from, to;
-		FactorId factor;
-	};
-	/** The pose steps each landmark has a reading from (admitted or held): a scan sees a landmark once. */
-	std::map<std::int32_t, std::set<std::size_t>> steps_seen() const;
-	/** reassociate(): readings outside the gate of their landmark and inside another's; `seen_at` gains
-	 * each move's step. */
-	std::vector<ReadingMove> misfit_moves(std::map<std::int32_t, std::set<std::size_t>>& seen_at) const;
-	/** reassociate(): the readings of each duplicate landmark, to the older one they all fit; landmarks
-	 * that `moved` changes are left for the next step. */
-	std::vector<ReadingMove> duplicate_merges(const std::map<std::int32_t, std::set<std::size_t>>& seen_at,
-											  const std::vector<ReadingMove>& moved) const;
+	/** Counts readings the store dropped for good as excluded (and the unconfirmed among them). */
+	void count_dropped(const LandmarkStore::Dropped& d);
 	/** Adds the factor of `o` to `lm` and records it as admitted. */
 	void admit(Landmark& lm, Observation o);
 	/** The step's readings (IDs assigned, `matched`: associated to an existing landmark) into the graph:
@@ -369,24 +260,13 @@ class RangeBearingGraph
 	smoother::FixedLagSmoother smoother_;
 	std::vector<PoseRecord> poses_;
 	std::map<VariableId, std::size_t> step_of_;
-	std::map<std::int32_t, Landmark> landmarks_;
-	/** Per pose of the linear tail, oldest first: the landmarks it read and how often. */
-	std::deque<std::vector<std::pair<std::int32_t, std::size_t>>> tail_readings_;
-	std::map<VariableId, std::int32_t> landmark_of_var_;
-	std::map<std::int32_t, MapLandmark> map_;  ///< Map policy (landmark_map.cpp)
+	LandmarkStore store_;
 	mrpt::poses::CPose3D last_sensor_;
 	std::shared_ptr<const LossFunction> loss_;  ///< of the reading factors (set with the model)
 	double robust_scale_sq_ = 0;                ///< χ²_dof(robust_probability) (set with the model)
-	double gate_threshold_ = 0;                 ///< χ²_dof(gate_probability) (set with the model)
 	bool gate_on_entry_;
 	std::map<double, mrpt::poses::CPose3D> pose_guesses_;
-	/** First readings of landmarks not yet in the graph, waiting for a consistent second reading. */
-	std::map<std::int32_t, std::vector<Observation>> unconfirmed_;
-	/** Odometry covariance of the newest pose relative to the previous one, on the pose variable's
-	 * tangent (the inverse of its odometry factor's information), for the gate. */
-	Eigen::MatrixXd newest_pose_cov_;
-	/** The newest pose's value the gate tests its readings at (centre_gate). */
-	std::vector<double> gate_centre_;
+	ReadingGate gate_;  ///< its bound set with the model
 	ReadingCounts counts_;
 	DataAssociation association_ = DataAssociation::Auto;
 	std::int32_t next_landmark_id_ = 0;  ///< the next ID data association gives

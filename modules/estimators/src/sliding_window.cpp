@@ -111,7 +111,7 @@ struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 	{
 		std::set<VariableId> leaving;
 		const std::size_t newest_step = graph.poses().size() - 1;
-		for (auto& [id, lm] : graph.landmarks())
+		for (const auto& [id, lm] : graph.landmarks())
 		{
 			std::size_t newest = o;
 			for (const auto& ob : lm.obs)
@@ -126,11 +126,11 @@ struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 			{
 				if (smoother().in_prior(lm.var))
 				{
-					graph.convert_to_world_xyz(lm);
+					graph.convert_to_world_xyz(id);
 					sum->landmarks_to_world++;
 				}
 				else
-					graph.reanchor(lm, seen_in_window ? newest : newest_step);
+					graph.reanchor(id, seen_in_window ? newest : newest_step);
 				sum->reanchored++;
 			}
 		}

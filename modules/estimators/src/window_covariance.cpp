@@ -76,9 +76,9 @@ PoseCovariance RangeBearingGraph::pose_covariance(const CovarianceResult& r, std
 std::map<std::int32_t, LandmarkEstimate> RangeBearingGraph::landmark_estimates(double* seconds)
 {
 	std::vector<const Landmark*> all;
-	for (const auto& [id, lm] : landmarks_) all.push_back(&lm);
+	for (const auto& [id, lm] : store_) all.push_back(&lm);
 	std::map<std::int32_t, LandmarkEstimate> out = estimates_of(all, seconds);
-	for (const auto& [id, m] : map_) out[id] = {m.position, m.covariance};  // never in the state as well
+	for (const auto& [id, m] : store_.map()) out[id] = {m.position, m.covariance};  // never in the state as well
 	return out;
 }
 
