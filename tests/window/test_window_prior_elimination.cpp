@@ -14,14 +14,14 @@ using namespace swba::estimators;
 
 namespace
 {
-struct WindowRun
+struct EliminationRun
 {
 	eval::Trajectory online, lagged;
 	std::map<std::int32_t, Eigen::Vector3d> landmarks;
 	int prior_only_steps = 0, max_prior_only = 0;
 };
 
-WindowRun run_window(const io::Rawlog& log, bool eliminate)
+EliminationRun run_eliminating(const io::Rawlog& log, bool eliminate)
 {
 	SlidingWindowOptions opt;
 	opt.window_size = 10;
@@ -35,7 +35,7 @@ WindowRun run_window(const io::Rawlog& log, bool eliminate)
 	opt.solver.gradient_tolerance = 1e-12;
 	opt.solver.parameter_tolerance = 1e-12;
 	SlidingWindowEstimator est(opt);
-	WindowRun r;
+	EliminationRun r;
 	for (const auto& s : log.steps)
 	{
 		const StepSummary& sum = est.process(s);
@@ -70,8 +70,8 @@ TEST(SlidingWindowPriorElimination, SameOptimumAsSolvingWithEveryLandmark)
 	io::RawlogReaderOptions ro;
 	ro.max_steps = 150;
 	const io::Rawlog log = io::read_rawlog(test::dataset("kf-slam_6D_demo.rawlog"), ro);
-	const WindowRun full = run_window(log, false);
-	const WindowRun elim = run_window(log, true);
+	const EliminationRun full = run_eliminating(log, false);
+	const EliminationRun elim = run_eliminating(log, true);
 	// The elimination is exercised (landmarks leave the window's view and stay in the prior) and off
 	// when disabled.
 	EXPECT_GT(elim.prior_only_steps, 50);
