@@ -39,7 +39,7 @@ std::string non_default_ini()
 		   "[window]\nsizes = 3,4\npolicy = both\nfej = off\nlandmarks = xyz\nmodel = 2d\ngauge = prior\ngauge_prior_weight = 5\n"
 		   "relinearized_poses = 4\nmarginalization_threshold = 0.5\ngate = true\ngate_probability = 0.5\nrobust_loss = huber\n"
 		   "robust_probability = 0.75\ncovariances = false\n"
-		   "association = nn\nreassociate = false\nyoung_landmark_readings = 5\nyoung_readings = off\n"
+		   "association = nn\nreassociate = false\nyoung_landmark_readings = 5\nyoung_readings_test = false\n"
 		   "[solver]\nmax_iterations = 4\nfunction_tolerance = 0.5\ngradient_tolerance = 0.25\n"
 		   "parameter_tolerance = 0.125\nlinear_solver = dense-normal\ndense_max_dim = 9\nthreads = 2\n"
 		   "[ekf]\nenabled = false\nmethods = kfIKF\nini_file = x.ini\n"

@@ -1,5 +1,5 @@
-// Young landmarks' readings (SlidingWindowOptions::young_landmark_readings, young_readings): a pose that
-// holds one stays re-linearised, and Auto runs the rule only while the readings misfit their declared noise.
+// Young landmarks' readings (SlidingWindowOptions::young_landmark_readings, young_readings_test): a pose
+// that holds one stays re-linearised, and with the test only while the readings misfit their declared noise.
 #include "window_test_utils.h"
 
 #include <gtest/gtest.h>
@@ -33,12 +33,14 @@ YoungRun young_run(const io::Rawlog& r, const SlidingWindowOptions& o)
 	return {est.online_trajectory(), est.reading_counts()};
 }
 
-SlidingWindowOptions young_options(YoungReadings when)
+/** `n`: young_landmark_readings (0: the rule off); `test`: young_readings_test. */
+SlidingWindowOptions young_options(int n, bool test)
 {
 	SlidingWindowOptions o;
 	o.window_size = 10;
 	o.covariances = false;
-	o.young_readings = when;
+	o.young_landmark_readings = n;
+	o.young_readings_test = test;
 	return o;
 }
 }  // namespace
@@ -49,9 +51,8 @@ TEST(YoungReadings, AlwaysYoungEqualsTheWholeWindowReLinearised)
 {
 	const io::Rawlog r = young_demo_prefix(60);
 	for (const auto& s : r.steps) ASSERT_FALSE(s.readings.empty()) << "step " << s.index;
-	SlidingWindowOptions held = young_options(YoungReadings::On);
-	held.young_landmark_readings = 1000000;
-	SlidingWindowOptions whole = young_options(YoungReadings::Off);
+	const SlidingWindowOptions held = young_options(1000000, false);
+	SlidingWindowOptions whole = young_options(0, true);
 	whole.relinearized_poses = 0;
 	const YoungRun a = young_run(r, held), b = young_run(r, whole);
 	// From the third step on: at the second the oldest pose is the initial one, which has no reading.
@@ -64,13 +65,13 @@ TEST(YoungReadings, AlwaysYoungEqualsTheWholeWindowReLinearised)
 		EXPECT_LT((matrix(a.online.poses[k]) - matrix(b.online.poses[k])).norm(), 1e-9) << "step " << k;
 }
 
-// Auto: on the simulated log the readings fit their declared noise, which the test finds within a few
+// The test: on the simulated log the readings fit their declared noise, which the test finds within a few
 // steps; declared at half their σ (a quarter of the variance) they do not, and the rule keeps running.
-TEST(YoungReadings, AutoStopsWhenTheReadingsFitTheirDeclaredNoise)
+TEST(YoungReadings, TestStopsTheRuleWhenTheReadingsFitTheirDeclaredNoise)
 {
 	const io::Rawlog r = young_demo_prefix(150);
-	const YoungRun declared = young_run(r, young_options(YoungReadings::Auto));
-	SlidingWindowOptions halved = young_options(YoungReadings::Auto);
+	const YoungRun declared = young_run(r, young_options(30, true));
+	SlidingWindowOptions halved = young_options(30, true);
 	const Eigen::Vector3d sigma = halved.sensor.resolve(r.steps[1]);
 	halved.sensor.std_range = sigma[0] / 2;
 	halved.sensor.std_yaw = sigma[1] / 2;
@@ -79,6 +80,6 @@ TEST(YoungReadings, AutoStopsWhenTheReadingsFitTheirDeclaredNoise)
 	EXPECT_GT(declared.counts.young_held_steps, 0u);  // held until decided
 	EXPECT_LT(declared.counts.young_held_steps, 40u);
 	EXPECT_GT(misfit.counts.young_held_steps, 100u);
-	const YoungRun off = young_run(r, young_options(YoungReadings::Off));
+	const YoungRun off = young_run(r, young_options(0, true));
 	EXPECT_EQ(off.counts.young_held_steps, 0u);
 }

@@ -137,10 +137,10 @@ IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& 
 				   "a pose with a reading of a landmark read fewer times than this stays re-linearised, so the "
 				   "reading's robust weight is not frozen yet (doc/window.md); 0 = never",
 				   &O::young_landmark_readings, 0),
-		enum_key<O, YoungReadings>(section, "young_readings",
-								   "when young landmarks' readings stay re-linearised: auto (once the readings "
-								   "misfit their declared noise), on or off",
-								   "young readings", [](auto& o) -> auto& { return o.young_readings; }),
+		bool_key<O>(section, "young_readings_test",
+					"keep young landmarks' readings re-linearised only until a sequential test finds the readings "
+					"fit their declared noise; false: for the whole run",
+					&O::young_readings_test),
 	};
 }
 }  // namespace swba::estimators

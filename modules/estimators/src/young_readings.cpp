@@ -6,7 +6,7 @@ namespace swba::estimators::detail
 {
 namespace
 {
-/** H1 of the Auto rule: twice the declared variance, or the gross readings that weigh as much; then the
+/** H1 of the test: twice the declared variance, or the gross readings that weigh as much; then the
  * robust weights do work, and freezing them at marginalisation costs accuracy (doc/realdata.md). The
  * error probabilities make a wrong decision rare either way. */
 constexpr double kMisfitVariance = 2;
@@ -22,8 +22,8 @@ NoiseDecision noise_test(double sum_squares, std::size_t n, int dof, double k, d
 }
 
 YoungReadingRule::YoungReadingRule(const SlidingWindowOptions& o)
-	: when_(o.robust_loss == RobustLoss::None || o.young_landmark_readings == 0 ? YoungReadings::Off
-																				 : o.young_readings),
+	: enabled_(o.robust_loss != RobustLoss::None && o.young_landmark_readings > 0),
+	  test_(o.young_readings_test),
 	  young_(static_cast<std::size_t>(o.young_landmark_readings))
 {
 }
@@ -43,8 +43,7 @@ void YoungReadingRule::add_tested(const std::vector<double>& squared_residuals, 
 
 bool YoungReadingRule::active() const
 {
-	if (when_ != YoungReadings::Auto) return when_ == YoungReadings::On;
-	return decision_ != NoiseDecision::Declared;
+	return enabled_ && (!test_ || decision_ != NoiseDecision::Declared);
 }
 
 bool YoungReadingRule::keeps(const std::vector<std::int32_t>& ids) const

@@ -34,20 +34,20 @@ class YoungReadingRule
 	explicit YoungReadingRule(const SlidingWindowOptions& options);
 	/** A step's readings, by the landmark ID each was given. */
 	void add_readings(const std::vector<std::int32_t>& ids);
-	/** Whether Auto still needs evidence (noise_test undecided). */
-	bool testing() const { return when_ == YoungReadings::Auto && decision_ == NoiseDecision::Undecided; }
-	/** Evidence for Auto: the whitened squared residuals of readings (`dof` rows each) entering the
+	/** Whether the test still needs evidence (noise_test undecided). */
+	bool testing() const { return enabled_ && test_ && decision_ == NoiseDecision::Undecided; }
+	/** Evidence for the test: the whitened squared residuals of readings (`dof` rows each) entering the
 	 * marginal prior, at the estimate they enter with (the one their frozen weights come from). */
 	void add_tested(const std::vector<double>& squared_residuals, int dof);
 	/** Whether a pose whose readings were given `ids` stays re-linearised now. */
 	bool keeps(const std::vector<std::int32_t>& ids) const;
 
    private:
-	/** Whether the rule runs: always (On), never (Off, no loss, N = 0), or, with Auto, until noise_test
-	 * decides that the readings tested so far fit their declared noise (for good, once decided). */
+	/** Whether the rule runs: never without a robust loss or with N = 0; else always, or with the test
+	 * until noise_test decides that the readings tested so far fit their declared noise (for good). */
 	bool active() const;
 
-	YoungReadings when_;
+	bool enabled_, test_;
 	std::size_t young_;  ///< N: a landmark given fewer readings is young
 	NoiseDecision decision_ = NoiseDecision::Undecided;
 	std::size_t tested_ = 0;

@@ -74,20 +74,6 @@ constexpr std::array<EnumName<LandmarkPolicy>, 3> enum_names(LandmarkPolicy)
 	return {{{LandmarkPolicy::Slam, "slam"}, {LandmarkPolicy::ConstantTime, "constant-time"}, {LandmarkPolicy::Map, "map"}}};
 }
 
-/** When the window keeps young landmarks' readings re-linearised (SlidingWindowOptions::young_readings). */
-enum class YoungReadings
-{
-	/** Once the readings marginalised so far lie beyond the robust loss's scale significantly more often
-	 * than the declared noise predicts: the weights then do work, and freezing them costs accuracy. */
-	Auto,
-	On,
-	Off
-};
-constexpr std::array<EnumName<YoungReadings>, 3> enum_names(YoungReadings)
-{
-	return {{{YoungReadings::Auto, "auto"}, {YoungReadings::On, "on"}, {YoungReadings::Off, "off"}}};
-}
-
 LandmarkParameterization parse_landmark_parameterization(const std::string& s);  ///< "inverse-depth" | "xyz"
 LandmarkPolicy parse_landmark_policy(const std::string& s);                      ///< "slam" | "constant-time" | "map"
 std::string to_string(LandmarkParameterization p);
@@ -173,17 +159,17 @@ struct SlidingWindowOptions
 	 * Default true. */
 	bool reassociate = true;
 	/** A pose whose readings include one of a landmark given fewer than this many readings so far stays
-	 * re-linearised (beyond relinearized_poses, within window_size) while young_readings says so. Such a
+	 * re-linearised (beyond relinearized_poses, within window_size), with a robust loss. Such a
 	 * landmark is still fitted to those readings, so marginalising them would freeze their robust weight
 	 * at a near-zero residual, where the later readings (and the batch) give them less: on real logs
 	 * that is most of the gap to the causal optimum (doc/realdata.md). 0 = never. Default 30. */
 	int young_landmark_readings = 30;
-	/** When young landmarks' readings are kept re-linearised (robust loss only; the SLAM policy with a
-	 * linear tail). Auto: from the first step at which the readings marginalised so far lie beyond the
-	 * loss's scale more often than 1 − robust_probability, the share the declared noise predicts, by a
-	 * one-sided binomial test at level 1e-6; under the declared model it never runs, and costs nothing.
-	 * Default Auto. */
-	YoungReadings young_readings = YoungReadings::Auto;
+	/** Run the young_landmark_readings rule only until a sequential test (Wald's, on the whitened squared
+	 * residuals of the readings entering the marginal prior: χ²_dof against 2·χ²_dof, error
+	 * probabilities 1e-3) decides that the readings fit their declared noise: under the declared model
+	 * the window is then the one without the rule after a few dozen readings. false: the rule runs for
+	 * the whole run. Default true. */
+	bool young_readings_test = true;
 
 	/** The poses re-linearised at every step: min(relinearized_poses, window_size) for the SLAM policy
 	 * with the fixed or prior gauge, else window_size (0: unbounded). The constant-time and map policies
@@ -204,7 +190,7 @@ struct SlidingWindowOptions
 	 * marginalization_threshold. The members solver, sensor and odometry have their own keys
 	 * (SolverOptions::ini_keys etc.); window_size, policy and FEJ are chosen per run by the application.
 	 * Also the outlier keys: gate, gate_probability, robust_loss, robust_probability; covariances;
-	 * association and reassociate; young_landmark_readings and young_readings. */
+	 * association and reassociate; young_landmark_readings and young_readings_test. */
 	static IniKeys<SlidingWindowOptions> ini_keys(const std::string& section);
 };
 
@@ -263,7 +249,7 @@ struct ReadingCounts
 	 * weight < 1/2) when they entered the marginal prior (window) / at the solution (batch). */
 	std::size_t down_weighted = 0;
 	/** Window: steps after which poses were kept re-linearised for young landmarks' readings
-	 * (SlidingWindowOptions::young_readings). */
+	 * (SlidingWindowOptions::young_landmark_readings). */
 	std::size_t young_held_steps = 0;
 };
 
