@@ -23,6 +23,7 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace swba::apps
 {
@@ -191,15 +192,12 @@ ordered_json stats_object(const eval::Statistics& s)
 
 ordered_json readings_object(const estimators::ReadingCounts& c)
 {
+	const std::pair<const char*, std::size_t> counts[] = {
+		{"processed", c.readings},       {"gated", c.gated},         {"readmitted", c.readmitted},
+		{"reassociated", c.reassociated}, {"unconfirmed", c.unconfirmed}, {"excluded", c.excluded},
+		{"down_weighted", c.down_weighted}, {"young_held_steps", c.young_held_steps}};
 	ordered_json j;
-	j["processed"] = c.readings;
-	j["gated"] = c.gated;
-	j["readmitted"] = c.readmitted;
-	j["reassociated"] = c.reassociated;
-	j["unconfirmed"] = c.unconfirmed;
-	j["excluded"] = c.excluded;
-	j["down_weighted"] = c.down_weighted;
-	j["young_held_steps"] = c.young_held_steps;
+	for (const auto& [key, n] : counts) j[key] = n;
 	return j;
 }
 
