@@ -58,7 +58,8 @@ TEST(YoungReadings, AlwaysYoungEqualsTheWholeWindowReLinearised)
 	// From the third step on: at the second the oldest pose is the initial one, which has no reading.
 	EXPECT_EQ(a.counts.young_held_steps, 60u - 2u);
 	ASSERT_EQ(a.online.size(), b.online.size());
-	const auto matrix = [](const mrpt::poses::CPose3D& p) {
+	// A copy: asEigen() maps the temporary matrix, which dies with the return statement.
+	const auto matrix = [](const mrpt::poses::CPose3D& p) -> Eigen::Matrix4d {
 		return p.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen();
 	};
 	for (std::size_t k = 0; k < a.online.size(); k++)
