@@ -193,10 +193,15 @@ std::vector<double> RangeBearingGraph::robust_squared_residuals(const std::set<F
 	return out;
 }
 
+int RangeBearingGraph::count_beyond_scale(const std::vector<double>& squares) const
+{
+	return static_cast<int>(
+		std::count_if(squares.begin(), squares.end(), [this](double v) { return v > robust_scale_sq_; }));
+}
+
 int RangeBearingGraph::count_down_weighted(const std::set<FactorId>& factors) const
 {
-	const std::vector<double> s = robust_squared_residuals(factors);
-	return static_cast<int>(std::count_if(s.begin(), s.end(), [this](double v) { return v > robust_scale_sq_; }));
+	return count_beyond_scale(robust_squared_residuals(factors));
 }
 
 std::set<FactorId> RangeBearingGraph::reading_factors_leaving(std::size_t k, const std::set<VariableId>& leaving) const

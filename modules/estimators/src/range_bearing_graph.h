@@ -102,6 +102,8 @@ class RangeBearingGraph
 	/** The whitened squared residuals ‖r‖² of the readings among `factors` with a robust loss, at the
 	 * current values (readings that cannot be evaluated there are left out). */
 	std::vector<double> robust_squared_residuals(const std::set<FactorId>& factors) const;
+	/** How many of `squares` (robust_squared_residuals) lie beyond the loss's scale. */
+	int count_beyond_scale(const std::vector<double>& squares) const;
 	/** The reading factors of pose step `k` and of the landmarks `leaving` (what marginalising k takes). */
 	std::set<FactorId> reading_factors_leaving(std::size_t k, const std::set<VariableId>& leaving) const;
 	/** Counts so far (excluded: readings dropped for good; call finish_counts() at the end). */

@@ -143,8 +143,9 @@ struct SlidingWindowEstimator::Impl : smoother::SmootherClient
 		leaving_with_oldest = landmarks_leaving_with(o);
 		const std::set<VariableId>& out = leaving_with_oldest;
 		const std::set<FactorId> readings = graph.reading_factors_leaving(o, out);
-		sum->down_weighted += graph.count_down_weighted(readings);
-		young.add_tested(graph.robust_squared_residuals(readings), graph.reading_dof());
+		const std::vector<double> squares = graph.robust_squared_residuals(readings);
+		sum->down_weighted += graph.count_beyond_scale(squares);
+		if (young.testing()) young.add_tested(squares, graph.reading_dof());
 		graph.expire_readings_at(o);
 		if (opt().relinearized_window() < opt().window_size) graph.hold_tail_readings(o);
 		if (opt().policy == LandmarkPolicy::Map) sum->landmarks_not_mapped += graph.keep_in_map(out);
