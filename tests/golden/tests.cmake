@@ -86,6 +86,12 @@ foreach(r 1 2 3 4 5)
             -P ${_golden}/realdata_bounds.cmake)
   set_tests_properties(realdata.bounds_r${r} PROPERTIES FIXTURES_REQUIRED ${_name})
 endforeach()
+# Two of them without landmark IDs (r1, r5): data association, measured against the log with IDs (r5
+# without the batch, which adds nothing to the association figures and doubles the time).
+swba_golden(run_mrclam6_r1_noids run ${_data}/mrclam/mrclam6_r1_noids.rawlog --association-truth
+  ${_data}/mrclam/mrclam6_r1.rawlog --windows 30 --no-plots --no-progress --out <work>/out)
+swba_golden(run_mrclam6_r5_noids run ${_data}/mrclam/mrclam6_r5_noids.rawlog --association-truth
+  ${_data}/mrclam/mrclam6_r5.rawlog --windows 30 --no-batch --no-plots --no-progress --out <work>/out)
 # The bound check itself must fail on a row over its bound.
 add_test(NAME realdata.bounds_self_check
   COMMAND ${CMAKE_COMMAND} -DSUMMARY=${_golden}/selfcheck/realdata_over_bound.json -DONLINE_BOUND=2.5

@@ -158,10 +158,28 @@ TEST(MatchReadings, EachReadingTakesItsCompatibleCandidateOrNone)
 		{-1, {1, {4.98, 0.01, 0}, {0.05, 0.005, 0.005}}},
 		{-1, {1, {5, M_PI, 0}, {0.05, 0.005, 0.005}}}};
 	for (DataAssociation method : {DataAssociation::NearestNeighbour, DataAssociation::Jcbb})
-		EXPECT_EQ(match_readings(readings, pred, 2, method, 0.99, 3), (std::vector<int>{1, 0, -1}));
+		EXPECT_EQ(match_readings(readings, pred, 2, method, 0.99, 3).target, (std::vector<int>{1, 0, -1}));
 	// Planar rows (x, y) only: the same answer.
 	pred.own.assign(2, 1e-2 * Eigen::MatrixXd::Identity(2, 2));
-	EXPECT_EQ(match_readings(readings, pred, 2, DataAssociation::Jcbb, 0.99, 2), (std::vector<int>{1, 0, -1}));
+	EXPECT_EQ(match_readings(readings, pred, 2, DataAssociation::Jcbb, 0.99, 2).target, (std::vector<int>{1, 0, -1}));
+}
+
+TEST(MatchReadings, ListsEveryCompatibleCandidateNearestFirst)
+{
+	// Two candidates 0.2 m apart across the line of sight at 5 m, each predicted with σ 0.1 m: a reading
+	// between them, nearer the second, is inside both gates (ambiguous on its own); one far off, in none.
+	JointPrediction pred;
+	pred.ok = true;
+	pred.points = {Eigen::Vector3d(5, 0, 0), Eigen::Vector3d(5, 0.2, 0)};
+	pred.own.assign(2, 1e-2 * Eigen::MatrixXd::Identity(3, 3));
+	pred.support.resize(2);
+	const std::vector<std::pair<std::int32_t, Observation>> readings{
+		{-1, {1, {5, 0.028, 0}, {0.05, 0.005, 0.005}}}, {-1, {1, {5, -0.5, 0}, {0.05, 0.005, 0.005}}}};
+	const ReadingMatch m = match_readings(readings, pred, 2, DataAssociation::NearestNeighbour, 0.99, 3);
+	ASSERT_EQ(m.compatible.size(), 2u);
+	EXPECT_EQ(m.compatible[0], (std::vector<int>{1, 0}));
+	EXPECT_TRUE(m.compatible[1].empty());
+	EXPECT_EQ(m.target, (std::vector<int>{1, -1}));
 }
 
 TEST(ReassociationMoves, AMisfitReadingMovesToTheLandmarkItFits)

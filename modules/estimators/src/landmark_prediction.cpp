@@ -20,14 +20,12 @@ Eigen::Vector3d in_sensor_frame(const double* pose_x, const mrpt::poses::CPose3D
 	s.inverseComposePoint(p.x(), p.y(), p.z(), lx, ly, lz);
 	return {lx, ly, lz};
 }
-/** The candidates individually compatible (inside `gate`) with some reading of `prob`, each reading
- * keeping its few nearest, in increasing order. */
-std::vector<int> compatible_candidates(const AssociationProblem& prob, const JointPrediction& pred, std::size_t num_candidates,
-									   double gate)
+/** Per reading of `prob`, the candidates individually compatible with it (inside `gate`), nearest
+ * first. */
+std::vector<std::vector<std::pair<double, int>>> individually_compatible(const AssociationProblem& prob,
+																		 const JointPrediction& pred,
+																		 std::size_t num_candidates, double gate)
 {
-	// Individually compatible readings of each candidate; each reading keeps its kMaxCandidates
-	// nearest: JCBB's search grows exponentially with the choices per reading, and a farther candidate
-	// is never the nearest neighbour and rarely the joint choice.
 	const int dim = prob.dim;
 	std::vector<std::vector<std::pair<double, int>>> compatible(prob.readings.size());
 	for (int j = 0; j < static_cast<int>(num_candidates); j++)
@@ -40,13 +38,19 @@ std::vector<int> compatible_candidates(const AssociationProblem& prob, const Joi
 			if (d2 <= gate) compatible[i].push_back({d2, j});
 		}
 	}
+	for (auto& c : compatible) std::sort(c.begin(), c.end());
+	return compatible;
+}
+
+/** The candidates that enter the association problem, in increasing order: each reading's few
+ * nearest compatible ones. JCBB's search grows exponentially with the choices per reading, and a
+ * farther candidate is never the nearest neighbour and rarely the joint choice. */
+std::vector<int> kept_candidates(const std::vector<std::vector<std::pair<double, int>>>& compatible)
+{
 	constexpr std::size_t kMaxCandidates = 3;
 	std::set<int> chosen;
-	for (auto& c : compatible)
-	{
-		std::sort(c.begin(), c.end());
+	for (const auto& c : compatible)
 		for (std::size_t t = 0; t < std::min(kMaxCandidates, c.size()); t++) chosen.insert(c[t].second);
-	}
 	return std::vector<int>(chosen.begin(), chosen.end());
 }
 }  // namespace
@@ -226,9 +230,9 @@ Eigen::MatrixXd JointPrediction::covariance_of(int a, int b, int dim) const
 	return S;
 }
 
-std::vector<int> match_readings(const std::vector<std::pair<std::int32_t, Observation>>& readings,
-								const JointPrediction& pred, std::size_t num_candidates, DataAssociation method,
-								double probability, int dim)
+ReadingMatch match_readings(const std::vector<std::pair<std::int32_t, Observation>>& readings,
+							const JointPrediction& pred, std::size_t num_candidates, DataAssociation method,
+							double probability, int dim)
 {
 	AssociationProblem prob;
 	prob.dim = dim;
@@ -237,7 +241,14 @@ std::vector<int> match_readings(const std::vector<std::pair<std::int32_t, Observ
 		prob.readings.push_back(reading_point(o.z).head(dim));
 		prob.reading_covariances.push_back(reading_point_covariance(o.z, o.sigma).topLeftCorner(dim, dim));
 	}
-	const std::vector<int> kept = compatible_candidates(prob, pred, num_candidates, chi2_quantile(probability, dim));
+	ReadingMatch out;
+	const auto compatible = individually_compatible(prob, pred, num_candidates, chi2_quantile(probability, dim));
+	for (const auto& c : compatible)
+	{
+		out.compatible.emplace_back();
+		for (const auto& [d2, j] : c) out.compatible.back().push_back(j);
+	}
+	const std::vector<int> kept = kept_candidates(compatible);
 	const int m = static_cast<int>(kept.size());
 	prob.prediction_covariance = Eigen::MatrixXd::Zero(m * dim, m * dim);
 	for (int a = 0; a < m; a++)
@@ -248,9 +259,9 @@ std::vector<int> match_readings(const std::vector<std::pair<std::int32_t, Observ
 			prob.prediction_covariance.block(a * dim, b * dim, dim, dim) =
 				pred.covariance_of(ja, kept[static_cast<std::size_t>(b)], dim);
 	}
-	std::vector<int> match = associate(prob, method, probability);
-	for (int& j : match)
+	out.target = associate(prob, method, probability);
+	for (int& j : out.target)
 		if (j >= 0) j = kept[static_cast<std::size_t>(j)];
-	return match;
+	return out;
 }
 }  // namespace swba::estimators::detail

@@ -69,14 +69,23 @@ struct JointPrediction
 	Eigen::MatrixXd covariance_of(int a, int b, int dim) const;
 };
 
+/** What match_readings decided, per reading. */
+struct ReadingMatch
+{
+	std::vector<int> target;  ///< the index of its target, or −1 (unmatched)
+	/** The targets individually compatible with it (inside the χ² gate), nearest first: the choice the
+	 * association had (a reading compatible with two landmarks or more is ambiguous on its own). */
+	std::vector<std::vector<int>> compatible;
+};
+
 /** Data association of one step's `readings` (ID field ignored) with the `num_candidates` targets of
  * `pred` by `method` (NearestNeighbour or Jcbb), readings and predictions as points in the sensor
- * frame (`dim` = reading_dof rows): per reading, the index of its target, or −1 (unmatched). Only the
- * targets individually compatible (χ² quantile at `probability`) with some reading, each reading
- * keeping its few nearest, enter the association problem. */
-std::vector<int> match_readings(const std::vector<std::pair<std::int32_t, Observation>>& readings,
-								const JointPrediction& pred, std::size_t num_candidates, DataAssociation method,
-								double probability, int dim);
+ * frame (`dim` = reading_dof rows). Only the targets individually compatible (χ² quantile at
+ * `probability`) with some reading, each reading keeping its few nearest, enter the association
+ * problem. */
+ReadingMatch match_readings(const std::vector<std::pair<std::int32_t, Observation>>& readings,
+							const JointPrediction& pred, std::size_t num_candidates, DataAssociation method,
+							double probability, int dim);
 
 class LandmarkPredictor
 {

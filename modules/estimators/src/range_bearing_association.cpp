@@ -3,6 +3,7 @@
 // joint prediction (LandmarkPredictor, landmark_prediction.h; doc/association.md).
 #include "range_bearing_graph.h"
 
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -66,15 +67,18 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 	if (!pred.ok)
 		throw std::runtime_error("data association at step " + std::to_string(k) +
 								 ": the window's covariance cannot be recovered (" + pred.message + ")");
-	const std::vector<int> match =
+	const ReadingMatch match =
 		match_readings(readings, pred, cand.size(), association_, opt_.gate_probability, reading_dof());
 	assigned.clear();
 	matched.assign(readings.size(), false);
 	for (std::size_t i = 0; i < readings.size(); i++)
 	{
-		matched[i] = match[i] >= 0;
-		const std::int32_t id =
-			matched[i] ? ids[static_cast<std::size_t>(match[i])] : next_landmark_id_++;
+		std::set<std::int32_t> choices;  // a provisional landmark stands in cand once per waiting reading
+		for (int j : match.compatible[i]) choices.insert(ids[static_cast<std::size_t>(j)]);
+		if (choices.size() >= 2) counts_.ambiguous++;
+		const int target = match.target[i];
+		matched[i] = target >= 0;
+		const std::int32_t id = matched[i] ? ids[static_cast<std::size_t>(target)] : next_landmark_id_++;
 		readings[i].first = id;
 		assigned.push_back(id);
 	}

@@ -193,9 +193,11 @@ ordered_json stats_object(const eval::Statistics& s)
 ordered_json readings_object(const estimators::ReadingCounts& c)
 {
 	const std::pair<const char*, std::size_t> counts[] = {
-		{"processed", c.readings},       {"gated", c.gated},         {"readmitted", c.readmitted},
-		{"reassociated", c.reassociated}, {"unconfirmed", c.unconfirmed}, {"excluded", c.excluded},
-		{"down_weighted", c.down_weighted}, {"young_held_steps", c.young_held_steps}};
+		{"processed", c.readings},         {"gated", c.gated},
+		{"readmitted", c.readmitted},      {"reassociated", c.reassociated},
+		{"ambiguous", c.ambiguous},        {"unconfirmed", c.unconfirmed},
+		{"excluded", c.excluded},          {"down_weighted", c.down_weighted},
+		{"young_held_steps", c.young_held_steps}};
 	ordered_json j;
 	for (const auto& [key, n] : counts) j[key] = n;
 	return j;

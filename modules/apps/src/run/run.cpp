@@ -340,7 +340,8 @@ std::string format_association_note(const RunRow& r)
 				  q.landmarks, q.true_landmarks, q.duplicates, q.spurious);
 	std::string note = buf;
 	if (r.name == "window" && r.reading_counts)
-		note += ", " + std::to_string(r.reading_counts->reassociated) + " re-associated in the window";
+		note += ", " + std::to_string(r.reading_counts->reassociated) + " re-associated in the window, " +
+				std::to_string(r.reading_counts->ambiguous) + " ambiguous on arrival";
 	return note;
 }
 

@@ -134,7 +134,8 @@ RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
 /** The comparison table (one row per estimator; failures with their step and message). */
 std::string format_comparison_table(const RunReport& report);
 /** The note of a row with RunRow::association: "<label>: association P % correct (…), L landmarks for T
- * true, D duplicate, S spurious[, R re-associated in the window]" (stderr of swba run and swba merge). */
+ * true, D duplicate, S spurious[, R re-associated in the window, A ambiguous on arrival]" (stderr of swba run
+ * and swba merge; ReadingCounts::ambiguous). */
 std::string format_association_note(const RunRow& row);
 /** ape.txt: per estimator a header line and evo's blocks (APE translation part, full transformation,
  * rotation angle; RPE translation part between consecutive steps). */

@@ -240,6 +240,10 @@ struct ReadingCounts
 	std::size_t gated = 0;
 	std::size_t readmitted = 0;     ///< window: of the gated, those that passed after a later solve
 	std::size_t reassociated = 0;   ///< window, data association: readings moved to another landmark (reassociate)
+	/** Window, data association: readings individually compatible with two landmarks or more when
+	 * they arrived (inside the χ² gate of each against the window's joint prediction), which one
+	 * reading alone cannot decide between. */
+	std::size_t ambiguous = 0;
 	/** First readings of a landmark that no later reading confirmed while their pose was in the window
 	 * (window only; most are landmarks seen once, which carry no information). */
 	std::size_t unconfirmed = 0;
