@@ -144,15 +144,26 @@ TEST(LandmarkStore, MapKeepsAMarginalUntilTheLandmarkReturns)
 	EXPECT_FALSE(store.in_map(4));
 }
 
-TEST(MatchReadings, EachReadingTakesItsCompatibleCandidateOrNone)
+namespace
 {
-	// Two candidates predicted at (5, 0, 0) and (0, 5, 0) in the sensor frame, each with its own noise
-	// only (no window variable); readings of each (in swapped order) and one of nothing.
+/** A joint prediction of two candidates at `a` and `b` in the sensor frame, each with its own noise
+ * σ = 0.1 m only (no window variable). */
+JointPrediction two_isolated_candidates(const Eigen::Vector3d& a, const Eigen::Vector3d& b)
+{
 	JointPrediction pred;
 	pred.ok = true;
-	pred.points = {Eigen::Vector3d(5, 0, 0), Eigen::Vector3d(0, 5, 0)};
+	pred.points = {a, b};
 	pred.own.assign(2, 1e-2 * Eigen::MatrixXd::Identity(3, 3));
 	pred.support.resize(2);
+	return pred;
+}
+}  // namespace
+
+TEST(MatchReadings, EachReadingTakesItsCompatibleCandidateOrNone)
+{
+	// Two candidates predicted at (5, 0, 0) and (0, 5, 0) in the sensor frame; readings of each (in
+	// swapped order) and one of nothing.
+	JointPrediction pred = two_isolated_candidates(Eigen::Vector3d(5, 0, 0), Eigen::Vector3d(0, 5, 0));
 	const std::vector<std::pair<std::int32_t, Observation>> readings{
 		{-1, {1, {5.02, M_PI / 2, 0}, {0.05, 0.005, 0.005}}},
 		{-1, {1, {4.98, 0.01, 0}, {0.05, 0.005, 0.005}}},
@@ -166,13 +177,9 @@ TEST(MatchReadings, EachReadingTakesItsCompatibleCandidateOrNone)
 
 TEST(MatchReadings, ListsEveryCompatibleCandidateNearestFirst)
 {
-	// Two candidates 0.2 m apart across the line of sight at 5 m, each predicted with σ 0.1 m: a reading
+	// Two candidates 0.2 m apart across the line of sight at 5 m: a reading
 	// between them, nearer the second, is inside both gates (ambiguous on its own); one far off, in none.
-	JointPrediction pred;
-	pred.ok = true;
-	pred.points = {Eigen::Vector3d(5, 0, 0), Eigen::Vector3d(5, 0.2, 0)};
-	pred.own.assign(2, 1e-2 * Eigen::MatrixXd::Identity(3, 3));
-	pred.support.resize(2);
+	const JointPrediction pred = two_isolated_candidates(Eigen::Vector3d(5, 0, 0), Eigen::Vector3d(5, 0.2, 0));
 	const std::vector<std::pair<std::int32_t, Observation>> readings{
 		{-1, {1, {5, 0.028, 0}, {0.05, 0.005, 0.005}}}, {-1, {1, {5, -0.5, 0}, {0.05, 0.005, 0.005}}}};
 	const ReadingMatch m = match_readings(readings, pred, 2, DataAssociation::NearestNeighbour, 0.99, 3);
