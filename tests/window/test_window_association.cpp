@@ -71,6 +71,41 @@ TEST(DataAssociation, JcbbResolvesAnAmbiguousPairThatNearestNeighbourGetsWrong)
 	EXPECT_EQ(nn[0], 1);
 }
 
+/** Two 2D predictions `gap` apart along x, independent, each with covariance σ²·I (σ = 0.1), and
+ * readings at `xs` on the x axis (reading noise negligible). */
+AssociationProblem two_landmarks(double gap, const std::vector<double>& xs)
+{
+	AssociationProblem p;
+	p.dim = 2;
+	p.predictions = {Eigen::Vector2d(0, 0), Eigen::Vector2d(gap, 0)};
+	p.prediction_covariance = 0.01 * Eigen::MatrixXd::Identity(4, 4);
+	for (double x : xs)
+	{
+		p.readings.push_back(Eigen::Vector2d(x, 0));
+		p.reading_covariances.push_back(1e-12 * Eigen::Matrix2d::Identity());
+	}
+	return p;
+}
+
+TEST(DataAssociation, JcbbGivesALoneReadingItsNearestCompatibleLandmark)
+{
+	// The reading is inside both gates (d² 4.84 and 0.64 against χ²₂(0.99) = 9.21), nearer the second
+	// landmark. (MRPT 2.5's JCBB keeps the first compatible one, landmark 0.)
+	const AssociationProblem p = two_landmarks(0.3, {0.22});
+	EXPECT_EQ(swba::estimators::associate(p, DataAssociation::Jcbb, 0.99), std::vector<int>{1});
+	EXPECT_EQ(swba::estimators::associate(p, DataAssociation::NearestNeighbour, 0.99), std::vector<int>{1});
+}
+
+TEST(DataAssociation, JcbbLeavesOutAPairingThatIsNotJointlyCompatible)
+{
+	// Each reading is individually compatible with its landmark (d² 7.29 and 8.41 < 9.21), but the two
+	// together are not (15.7 > χ²₄(0.99) = 13.28): JCBB pairs only the nearer one; nearest neighbour,
+	// which tests readings one by one, pairs both.
+	const AssociationProblem p = two_landmarks(10, {0.27, 10.29});
+	EXPECT_EQ(swba::estimators::associate(p, DataAssociation::Jcbb, 0.99), (std::vector<int>{0, -1}));
+	EXPECT_EQ(swba::estimators::associate(p, DataAssociation::NearestNeighbour, 0.99), (std::vector<int>{0, 1}));
+}
+
 TEST(AssociationQuality, CountsCorrectDuplicateAndSpuriousLandmarks)
 {
 	// True landmarks 7 and 8. Estimated 0 = 7 (3 readings), 1 = 7 again (2 readings: a duplicate),

@@ -2,9 +2,10 @@
  * Data association of landmark readings that carry no ID: which reading comes from which landmark
  * of the map. The window predicts every candidate landmark in the new pose's sensor frame (Cartesian,
  * so that bearings never wrap) with the joint covariance of the predictions — correlated through the
- * pose — and MRPT's mrpt::slam::data_association_full_covariance decides: nearest neighbour (each
- * reading its closest individually compatible landmark) or joint compatibility branch and bound
- * (JCBB, Neira & Tardós 2001: the largest set of pairings that is jointly compatible). */
+ * pose — and decides by nearest neighbour (each reading its closest individually compatible
+ * landmark; MRPT's mrpt::slam::data_association_full_covariance) or joint compatibility branch and
+ * bound (JCBB, Neira & Tardós 2001: the largest set of pairings that is jointly compatible, the
+ * nearest of those; written here, doc/association.md says why not MRPT's). */
 #pragma once
 
 #include <swba/core/names.h>
@@ -51,7 +52,8 @@ struct AssociationProblem
  * landmark). A prediction takes at most one reading. Pairs are compatible when the squared
  * Mahalanobis distance of their difference, under the prediction's covariance plus the reading's, is
  * within the χ² quantile at `probability` with d degrees of freedom (the individual-compatibility
- * gate; JCBB's joint test uses the quantile of d·k degrees of freedom for k pairs). `method` is
+ * gate; JCBB's joint test uses the quantile of d·k degrees of freedom for k pairs, and of the
+ * hypotheses with the most pairs keeps the one of smallest joint distance). `method` is
  * NearestNeighbour or Jcbb (throws std::invalid_argument otherwise). Deterministic. */
 std::vector<int> associate(const AssociationProblem& problem, DataAssociation method, double probability);
 
