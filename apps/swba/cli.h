@@ -26,6 +26,19 @@ std::string share_dir();
  * generated job lines call. */
 std::string this_executable();
 
+/** An optional `--<flag> VALUE` without a default of its own: the command reads it only when isSet()
+ * and otherwise keeps the value its options already hold (an INI's, or the options' default, which the
+ * description states). */
+template <class T>
+struct OverrideArg : TCLAP::ValueArg<T>
+{
+	OverrideArg(const std::string& flag, const std::string& type_description, const std::string& description,
+				TCLAP::CmdLineInterface& cmd)
+		: TCLAP::ValueArg<T>("", flag, description, false, T{}, type_description, cmd)
+	{
+	}
+};
+
 /** `--threads N` of the solver commands: "threads for evaluation and assembly (Default: 1)". */
 inline TCLAP::ValueArg<int> threads_arg(TCLAP::CmdLine& cmd)
 {
