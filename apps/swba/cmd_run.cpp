@@ -41,58 +41,54 @@ struct RunCommandLine
 	TCLAP::UnlabeledValueArg<std::string> rawlog{
 		"RAWLOG", "MRPT rawlog with odometry and bearing-range observations (Default: kf-slam_6D_demo.rawlog of mrpt-common)",
 		false, "", "RAWLOG", cmd};
-	OverrideArg<std::string> gt{"gt", "FILE",
-		"MRPT ground-truth robot path (x y z yaw pitch roll per row, row i = pose at SF_i) "
-		"(Default: <rawlog name>_ground_truth_robot_path.txt next to the rawlog, if present)", cmd};
-	OverrideArg<std::string> association_truth{"association-truth", "RAWLOG",
-		"rawlog with the same readings and their landmark IDs: the truth the association of a rawlog without IDs "
-		"is measured against (Default: the simulator's landmark file next to the rawlog, if present)", cmd};
-	OverrideArg<std::string> config{"config", "INI",
+	OverrideArg<std::string> gt{"gt", "FILE", "<rawlog name>_ground_truth_robot_path.txt next to the rawlog, if present",
+		"MRPT ground-truth robot path (x y z yaw pitch roll per row, row i = pose at SF_i)", cmd};
+	OverrideArg<std::string> association_truth{
+		"association-truth", "RAWLOG", "the simulator's landmark file next to the rawlog, if present",
+		"rawlog with the same readings and their landmark IDs: the truth the association of a rawlog without IDs is "
+		"measured against", cmd};
+	TCLAP::ValueArg<std::string> config{"", "config",
 		"INI file with options (sections [run] [window] [solver] [ekf] [sensor] [odometry]; see " + share_dir() +
-			"/config/swba_run.ini); unknown keys are errors", cmd};
-	OverrideArg<std::string> windows{"windows", "LIST",
-		"window sizes W, comma-separated, each >= 2 (Default: 5,10,20,30)", cmd};
-	OverrideArg<int> relinearized{"relinearized-poses", "K",
-		"poses of each window re-linearised at every step, the newest K (>= 2); the older ones are smoothed as "
-		"frozen linear conditionals (doc/window.md); 0 = the whole window (Default: 2)", cmd};
+			"/config/swba_run.ini); unknown keys are errors",
+		false, "", "INI", cmd};
+	OverrideArg<std::string> windows{"windows", "LIST", "5,10,20,30", "window sizes W, comma-separated, each >= 2", cmd};
+	OverrideArg<int> relinearized{"relinearized-poses", "K", "2",
+		"poses of each window re-linearised at every step, the newest K (>= 2); the older ones are smoothed "
+		"as frozen linear conditionals (doc/window.md); 0 = the whole window", cmd};
 	TCLAP::SwitchArg no_ekf{"", "no-ekf", "do not run MRPT's EKF", cmd};
 	TCLAP::SwitchArg no_batch{"", "no-batch", "do not run the batch estimator", cmd};
 	TCLAP::SwitchArg causal{
 		"", "causal",
 		"also run the full-history causal optimum (online W=inf: re-solve the whole history after every step; O(steps^2))",
 		cmd};
-	OverrideArg<std::string> ekf_method{"ekf-method", "NAME,...",
-		"MRPT EKF methods, comma-separated: kfEKFNaive, kfEKFAlaDavison, kfIKFFull, kfIKF "
-		"(Default: kfEKFAlaDavison,kfEKFNaive)", cmd};
-	OverrideArg<std::string> policy{"policy", "P",
-		"landmark policy of the window: slam, constant-time, map, a comma-separated list, both or all "
-		"(Default: slam)", cmd};
-	OverrideArg<std::string> fej{"fej", "on|off|both", "first-estimate Jacobians: on, off or both (Default: on)", cmd};
-	OverrideArg<std::string> landmarks{"landmarks", "P",
-		"landmark parameterisation: inverse-depth or xyz (Default: inverse-depth)", cmd};
-	OverrideArg<std::string> gauge{"gauge", "G", "gauge: fixed (first pose constant), free or prior (Default: fixed)",
-								   cmd};
-	OverrideArg<std::string> association{"association", "A",
-		"data association of the readings (doc/association.md): auto (the readings' landmark IDs if every reading "
-		"has one, else jcbb), ids, nn or jcbb (Default: auto)", cmd};
-	OverrideArg<double> std_range{"sensor-std-range", "M",
-		"range noise (m) for every estimator (Default: the observation's own)", cmd};
-	OverrideArg<double> std_yaw{"sensor-std-yaw-deg", "D",
-		"yaw noise (deg) for every estimator (Default: the observation's own)", cmd};
-	OverrideArg<double> std_pitch{"sensor-std-pitch-deg", "D",
-		"pitch noise (deg) for every estimator (Default: the observation's own)", cmd};
-	OverrideArg<std::string> gate{"gate", "on|off",
-		"chi-square gate of the bearing-range readings (doc/outliers.md): on or off (Default: off)", cmd};
-	OverrideArg<double> gate_probability{"gate-probability", "P",
-		"share of correct readings the gate passes, in (0, 1) (Default: 0.999)", cmd};
-	OverrideArg<std::string> robust_loss{"robust-loss", "L",
-		"robust loss of the range-bearing factors, window and batch: none, huber or cauchy (Default: cauchy)", cmd};
-	OverrideArg<double> robust_probability{"robust-probability", "P",
-		"robust-loss scale = sqrt of the chi-square (3 DoF) quantile at this probability, in (0, 1) "
-		"(Default: 0.99)", cmd};
-	OverrideArg<int> max_steps{"max-steps", "N", "process at most N steps (0 = all) (Default: 0)", cmd};
-	OverrideArg<int> threads{"threads", "N", "solver threads (Default: 1)", cmd};
-	OverrideArg<std::string> out{"out", "DIR", "output directory, created (Default: swba_out)", cmd};
+	OverrideArg<std::string> ekf_method{"ekf-method", "NAME,...", "kfEKFAlaDavison,kfEKFNaive",
+		"MRPT EKF methods, comma-separated: kfEKFNaive, kfEKFAlaDavison, kfIKFFull, kfIKF", cmd};
+	OverrideArg<std::string> policy{"policy", "P", "slam",
+		"landmark policy of the window: slam, constant-time, map, a comma-separated list, both or all", cmd};
+	OverrideArg<std::string> fej{"fej", "on|off|both", "on", "first-estimate Jacobians: on, off or both", cmd};
+	OverrideArg<std::string> landmarks{"landmarks", "P", "inverse-depth",
+		"landmark parameterisation: inverse-depth or xyz", cmd};
+	OverrideArg<std::string> gauge{"gauge", "G", "fixed", "gauge: fixed (first pose constant), free or prior", cmd};
+	OverrideArg<std::string> association{"association", "A", "auto",
+		"data association of the readings (doc/association.md): auto (the readings' landmark IDs if every "
+		"reading has one, else jcbb), ids, nn or jcbb", cmd};
+	OverrideArg<double> std_range{"sensor-std-range", "M", "the observation's own",
+		"range noise (m) for every estimator", cmd};
+	OverrideArg<double> std_yaw{"sensor-std-yaw-deg", "D", "the observation's own",
+		"yaw noise (deg) for every estimator", cmd};
+	OverrideArg<double> std_pitch{"sensor-std-pitch-deg", "D", "the observation's own",
+		"pitch noise (deg) for every estimator", cmd};
+	OverrideArg<std::string> gate{"gate", "on|off", "off",
+		"chi-square gate of the bearing-range readings (doc/outliers.md): on or off", cmd};
+	OverrideArg<double> gate_probability{"gate-probability", "P", "0.999",
+		"share of correct readings the gate passes, in (0, 1)", cmd};
+	OverrideArg<std::string> robust_loss{"robust-loss", "L", "cauchy",
+		"robust loss of the range-bearing factors, window and batch: none, huber or cauchy", cmd};
+	OverrideArg<double> robust_probability{"robust-probability", "P", "0.99",
+		"robust-loss scale = sqrt of the chi-square (3 DoF) quantile at this probability, in (0, 1)", cmd};
+	OverrideArg<int> max_steps{"max-steps", "N", "0", "process at most N steps (0 = all)", cmd};
+	OverrideArg<int> threads{"threads", "N", "1", "solver threads", cmd};
+	OverrideArg<std::string> out{"out", "DIR", "swba_out", "output directory, created", cmd};
 	TCLAP::SwitchArg no_plots{"", "no-plots", "do not write gnuplot plots", cmd};
 	TCLAP::SwitchArg no_progress{"", "no-progress", "no progress lines on stderr", cmd};
 	TCLAP::SwitchArg verbose{
