@@ -8,6 +8,7 @@
 
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 namespace swba::apps
 {
@@ -19,13 +20,14 @@ struct JobSummary
 	nlohmann::ordered_json json;
 };
 
-/** Before merging: throws std::invalid_argument "not a <what> sweep" unless `plan` is of `kind`, then
- * check_jobs_complete. */
-void check_mergeable(const SweepPlan& plan, SweepKind kind, const std::string& what, std::ostream& log);
+/** check_jobs_complete, keeping what it read: every job's summary.json, parsed once (job K at K - 1),
+ * each a complete summary of its kind (range-bearing: an "estimators" array; inertial: "rows"). */
+std::vector<JobSummary> read_complete_jobs(const SweepPlan& plan, std::ostream& log);
 
-/** Reads <dir>/summary.json. Throws std::runtime_error naming the file (missing, not JSON, no
- * "estimators"). */
-JobSummary read_job_summary(const std::string& dir);
+/** Before merging: throws std::invalid_argument "not a <what> sweep" unless `plan` is of `kind`, then
+ * read_complete_jobs. */
+std::vector<JobSummary> check_mergeable(const SweepPlan& plan, SweepKind kind, const std::string& what,
+										std::ostream& log);
 
 /** One "estimators" entry as a RunRow: names, statistics (exactly the doubles written), times,
  * failure; the estimate read from its TUM file in `dir` when the file exists. Throws
