@@ -23,7 +23,6 @@
 namespace swba::apps
 {
 namespace fs = std::filesystem;
-using nlohmann::ordered_json;
 
 namespace
 {

@@ -11,8 +11,6 @@
 
 namespace swba::apps
 {
-using nlohmann::ordered_json;
-
 namespace
 {
 std::string string_or_empty(const ordered_json& e, const char* key)
