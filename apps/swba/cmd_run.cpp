@@ -28,6 +28,13 @@ void install_stop_handlers()
 	sigaction(SIGTERM, &sa, nullptr);
 }
 
+/** `--sensor-std-<what> X`: one noise of the bearing-range sensor, the same for every estimator. */
+OverrideArg<double> sensor_noise_arg(const std::string& flag, const std::string& type_description,
+									 const std::string& noise, TCLAP::CmdLineInterface& cmd)
+{
+	return {flag, type_description, "the observation's own", noise + " for every estimator", cmd};
+}
+
 /** The command line of `swba run`: every option, and how it overrides the INI's value. */
 struct RunCommandLine
 {
@@ -72,12 +79,9 @@ struct RunCommandLine
 	OverrideArg<std::string> association{"association", "A", "auto",
 		"data association of the readings (doc/association.md): auto (the readings' landmark IDs if every "
 		"reading has one, else jcbb), ids, nn or jcbb", cmd};
-	OverrideArg<double> std_range{"sensor-std-range", "M", "the observation's own",
-		"range noise (m) for every estimator", cmd};
-	OverrideArg<double> std_yaw{"sensor-std-yaw-deg", "D", "the observation's own",
-		"yaw noise (deg) for every estimator", cmd};
-	OverrideArg<double> std_pitch{"sensor-std-pitch-deg", "D", "the observation's own",
-		"pitch noise (deg) for every estimator", cmd};
+	OverrideArg<double> std_range = sensor_noise_arg("sensor-std-range", "M", "range noise (m)", cmd);
+	OverrideArg<double> std_yaw = sensor_noise_arg("sensor-std-yaw-deg", "D", "yaw noise (deg)", cmd);
+	OverrideArg<double> std_pitch = sensor_noise_arg("sensor-std-pitch-deg", "D", "pitch noise (deg)", cmd);
 	OverrideArg<std::string> gate{"gate", "on|off", "off",
 		"chi-square gate of the bearing-range readings (doc/outliers.md): on or off", cmd};
 	OverrideArg<double> gate_probability{"gate-probability", "P", "0.999",
