@@ -26,6 +26,20 @@ std::string share_dir();
  * generated job lines call. */
 std::string this_executable();
 
+/** An optional `--<flag> VALUE` that overrides a value the command's options already hold (an INI's, or
+ * the options' own default, which `default_text` names: the description ends "(Default: <default_text>)").
+ * Read only when isSet(): it has no default of its own. */
+template <class T>
+struct OverrideArg : TCLAP::ValueArg<T>
+{
+	OverrideArg(const std::string& flag, const std::string& type_description, const std::string& default_text,
+				const std::string& description, TCLAP::CmdLineInterface& cmd)
+		: TCLAP::ValueArg<T>("", flag, description + " (Default: " + default_text + ")", false, T{}, type_description,
+							 cmd)
+	{
+	}
+};
+
 /** `--threads N` of the solver commands: "threads for evaluation and assembly (Default: 1)". */
 inline TCLAP::ValueArg<int> threads_arg(TCLAP::CmdLine& cmd)
 {

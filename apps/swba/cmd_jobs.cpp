@@ -34,22 +34,18 @@ int run_jobs(int argc, char** argv)
 	TCLAP::ValueArg<std::string> simulate("", "simulate",
 										  "simulated rawlogs instead: simul-landmarks INI, one rawlog per seed, made by "
 										  "each job (swba simulate)",
-										  false, "", "INI");
-	TCLAP::ValueArg<std::string> seeds("", "seeds", "seeds of --simulate, e.g. 1-10 or 1,4,7", false, "", "LIST");
-	TCLAP::ValueArg<std::string> windows("", "windows",
-										 "window sizes W, comma-separated, each >= 2: one job each (Default: the "
-										 "config's [window] sizes, 5,10,20,30)",
-										 false, "", "LIST");
+										  false, "", "INI", cmd);
+	TCLAP::ValueArg<std::string> seeds("", "seeds", "seeds of --simulate, e.g. 1-10 or 1,4,7", false, "", "LIST", cmd);
+	OverrideArg<std::string> windows("windows", "LIST", "the config's [window] sizes, 5,10,20,30",
+									 "window sizes W, comma-separated, each >= 2: one job each", cmd);
 	TCLAP::ValueArg<std::string> config("", "config", "swba run INI for every job (see swba run --help)", false, "",
-										"INI");
+										"INI", cmd);
 	TCLAP::ValueArg<std::string> out("", "out", "sweep directory, created (Default: swba_sweep)", false, "swba_sweep",
-									 "DIR");
-	TCLAP::ValueArg<std::string> swba("", "swba",
-									  "swba executable the job lines call; with parallel --sshlogin it must exist on "
-									  "every machine (Default: this swba, " + this_executable() + ")",
-									  false, "", "PATH");
-	for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&simulate, &seeds, &windows, &config, &out, &swba})
-		cmd.add(*a);
+									 "DIR", cmd);
+	OverrideArg<std::string> swba("swba", "PATH", "this swba, " + this_executable(),
+								  "swba executable the job lines call; with parallel --sshlogin it must exist on every "
+								  "machine",
+								  cmd);
 	if (auto rc = parse_command_line(cmd, argc, argv)) return *rc;
 	apps::SweepOptions o;
 	if (config.isSet()) apps::load_run_config(config.getValue(), o.run);  // a bad file: exit 1

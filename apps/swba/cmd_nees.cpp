@@ -11,52 +11,41 @@ namespace swba::app
 {
 namespace
 {
-/** The command line of `swba nees`: every option, and how it fills NeesOptions. */
-struct NeesCommandLine
-{
-	TCLAP::CmdLine cmd{
+const char* const kAbout =
 		"Filter consistency by Monte Carlo: makes N simulated rawlogs with simul-landmarks (seeds S, S+1, ...), runs "
 		"swba run on each (the window online and lagged at each W, FEJ on and off, MRPT's EKF), and prints per "
 		"estimator the average over the runs of the position NEES (3 dof) and pose NEES (6 dof) at each step against "
 		"the 95% chi-square band of that average: the share of steps inside it and the mean. No alignment: the "
 		"estimate and the ground truth share the first pose. Needs the covariance files swba run writes next to its "
 		"TUM files. The runs are the jobs of a sweep in DIR: --jobs-only writes them for GNU parallel or Slurm, then "
-		"swba merge DIR prints the same table. Writes DIR/nees/nees.txt, nees.csv and plots.",
-		' ', "0.1.0"};
-	TCLAP::ValueArg<int> runs{"", "runs", "number of simulated runs N, >= 1 (Default: 50)", false, 50, "N"};
-	TCLAP::ValueArg<long> first_seed{"", "first-seed", "seed of the first run, >= 1 (Default: 1)", false, 1, "S"};
-	TCLAP::ValueArg<std::string> ini{"", "ini",
-									 "simul-landmarks INI (Default: " + share_dir() +
-										 "/rawlogs/kf-slam_6D_noisy.ini, 600 steps, 6D)",
-									 false, "", "INI"};
-	TCLAP::ValueArg<std::string> config{"", "config", "swba run INI for every run (see swba run --help); the options "
-													  "below override it",
-										false, "", "INI"};
-	TCLAP::ValueArg<std::string> windows{"", "windows", "window sizes W, comma-separated, each >= 2 (Default: 10)",
-										 false, "", "LIST"};
-	TCLAP::ValueArg<std::string> fej{"", "fej", "first-estimate Jacobians: on, off or both (Default: both)", false, "",
-									 "on|off|both"};
-	TCLAP::ValueArg<std::string> ekf_method{"", "ekf-method",
-											"MRPT EKF methods, comma-separated (Default: kfEKFAlaDavison)", false, "",
-											"NAME,..."};
-	TCLAP::SwitchArg no_ekf{"", "no-ekf", "do not run MRPT's EKF"};
-	TCLAP::SwitchArg batch{"", "batch", "also the batch solution (its covariance: the full smoothing marginals)"};
-	TCLAP::ValueArg<int> max_steps{"", "max-steps", "process at most N steps of each rawlog (0 = all) (Default: 0)",
-								   false, 0, "N"};
-	TCLAP::ValueArg<std::string> out{"", "out", "sweep directory, created (Default: swba_nees)", false, "swba_nees",
-									 "DIR"};
-	TCLAP::SwitchArg jobs_only{"", "jobs-only",
-							   "only write DIR/jobs.txt and DIR/jobs.sbatch; run them, then swba merge DIR"};
-	TCLAP::ValueArg<std::string> swba{"", "swba",
-									  "swba executable the job lines call (Default: this swba, " + this_executable() + ")",
-									  false, "", "PATH"};
-	TCLAP::SwitchArg no_plots{"", "no-plots", "do not write gnuplot plots"};
+		"swba merge DIR prints the same table. Writes DIR/nees/nees.txt, nees.csv and plots.";
 
-	NeesCommandLine()
-	{
-		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{&runs, &first_seed, &ini, &config, &windows, &fej, &ekf_method, &no_ekf, &batch, &max_steps, &out, &jobs_only, &swba, &no_plots})
-			cmd.add(*a);
-	}
+/** The command line of `swba nees`: every option, and how it fills NeesOptions. */
+struct NeesCommandLine
+{
+	TCLAP::CmdLine cmd{kAbout, ' ', "0.1.0"};
+	// In the order --help lists them (cli.cpp), each added to `cmd` where it is declared.
+	TCLAP::ValueArg<int> runs{"", "runs", "number of simulated runs N, >= 1 (Default: 50)", false, 50, "N", cmd};
+	TCLAP::ValueArg<long> first_seed{"", "first-seed", "seed of the first run, >= 1 (Default: 1)", false, 1, "S", cmd};
+	OverrideArg<std::string> ini{"ini", "INI", share_dir() + "/rawlogs/kf-slam_6D_noisy.ini, 600 steps, 6D",
+								 "simul-landmarks INI", cmd};
+	TCLAP::ValueArg<std::string> config{
+		"", "config", "swba run INI for every run (see swba run --help); the options below override it", false, "",
+		"INI", cmd};
+	OverrideArg<std::string> windows{"windows", "LIST", "10", "window sizes W, comma-separated, each >= 2", cmd};
+	OverrideArg<std::string> fej{"fej", "on|off|both", "both", "first-estimate Jacobians: on, off or both", cmd};
+	OverrideArg<std::string> ekf_method{"ekf-method", "NAME,...", "kfEKFAlaDavison", "MRPT EKF methods, comma-separated",
+										cmd};
+	TCLAP::SwitchArg no_ekf{"", "no-ekf", "do not run MRPT's EKF", cmd};
+	TCLAP::SwitchArg batch{"", "batch", "also the batch solution (its covariance: the full smoothing marginals)", cmd};
+	OverrideArg<int> max_steps{"max-steps", "N", "0", "process at most N steps of each rawlog (0 = all)", cmd};
+	TCLAP::ValueArg<std::string> out{"", "out", "sweep directory, created (Default: swba_nees)", false, "swba_nees",
+									 "DIR", cmd};
+	TCLAP::SwitchArg jobs_only{"", "jobs-only", "only write DIR/jobs.txt and DIR/jobs.sbatch; run them, then swba merge DIR",
+							   cmd};
+	OverrideArg<std::string> swba{"swba", "PATH", "this swba, " + this_executable(), "swba executable the job lines call",
+								  cmd};
+	TCLAP::SwitchArg no_plots{"", "no-plots", "do not write gnuplot plots", cmd};
 
 	/** Fills `o` from the command line (its run options already loaded from --config); throws
 	 * std::invalid_argument naming the option. */

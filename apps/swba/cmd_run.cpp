@@ -28,6 +28,13 @@ void install_stop_handlers()
 	sigaction(SIGTERM, &sa, nullptr);
 }
 
+/** `--sensor-std-<what> X`: one noise of the bearing-range sensor, the same for every estimator. */
+OverrideArg<double> sensor_noise_arg(const std::string& flag, const std::string& type_description,
+									 const std::string& noise, TCLAP::CmdLineInterface& cmd)
+{
+	return {flag, type_description, "the observation's own", noise + " for every estimator", cmd};
+}
+
 /** The command line of `swba run`: every option, and how it overrides the INI's value. */
 struct RunCommandLine
 {
@@ -37,90 +44,59 @@ struct RunCommandLine
 		"table; writes TUM trajectories, ape.txt, ape.csv, summary.json, config.ini and plots into the output "
 		"directory. Options: defaults < --config INI < command line.",
 		' ', "0.1.0"};
+	// In the order --help lists them (cli.cpp): input, main choices, tuning, output, verbosity.
 	TCLAP::UnlabeledValueArg<std::string> rawlog{
 		"RAWLOG", "MRPT rawlog with odometry and bearing-range observations (Default: kf-slam_6D_demo.rawlog of mrpt-common)",
-		false, "", "RAWLOG"};
-	TCLAP::ValueArg<std::string> gt{"", "gt",
-									"MRPT ground-truth robot path (x y z yaw pitch roll per row, row i = pose at SF_i) "
-									"(Default: <rawlog name>_ground_truth_robot_path.txt next to the rawlog, if present)",
-									false, "", "FILE"};
-	TCLAP::ValueArg<std::string> association_truth{
-		"", "association-truth",
-		"rawlog with the same readings and their landmark IDs: the truth the association of a rawlog without IDs "
-		"is measured against (Default: the simulator's landmark file next to the rawlog, if present)",
-		false, "", "RAWLOG"};
-	TCLAP::ValueArg<std::string> windows{"", "windows", "window sizes W, comma-separated, each >= 2 (Default: 5,10,20,30)",
-										 false, "", "LIST"};
-	TCLAP::ValueArg<int> relinearized{
-		"", "relinearized-poses",
-		"poses of each window re-linearised at every step, the newest K (>= 2); the older ones are smoothed "
-		"as frozen linear conditionals (doc/window.md); 0 = the whole window (Default: 2)",
-		false, 0, "K"};
-	TCLAP::SwitchArg no_ekf{"", "no-ekf", "do not run MRPT's EKF"};
-	TCLAP::SwitchArg no_batch{"", "no-batch", "do not run the batch estimator"};
-	TCLAP::SwitchArg causal{"", "causal",
-							"also run the full-history causal optimum (online W=inf: re-solve the whole history after "
-							"every step; O(steps^2))"};
-	TCLAP::ValueArg<std::string> out{"", "out", "output directory, created (Default: swba_out)", false, "", "DIR"};
+		false, "", "RAWLOG", cmd};
+	OverrideArg<std::string> gt{"gt", "FILE", "<rawlog name>_ground_truth_robot_path.txt next to the rawlog, if present",
+		"MRPT ground-truth robot path (x y z yaw pitch roll per row, row i = pose at SF_i)", cmd};
+	OverrideArg<std::string> association_truth{
+		"association-truth", "RAWLOG", "the simulator's landmark file next to the rawlog, if present",
+		"rawlog with the same readings and their landmark IDs: the truth the association of a rawlog without IDs is "
+		"measured against", cmd};
 	TCLAP::ValueArg<std::string> config{"", "config",
-										"INI file with options (sections [run] [window] [solver] [ekf] [sensor] [odometry]; "
-										"see " + swba::app::share_dir() + "/config/swba_run.ini); unknown keys are errors",
-										false, "", "INI"};
-	TCLAP::ValueArg<std::string> ekf_method{"", "ekf-method",
-											"MRPT EKF methods, comma-separated: kfEKFNaive, kfEKFAlaDavison, kfIKFFull, "
-											"kfIKF (Default: kfEKFAlaDavison,kfEKFNaive)",
-											false, "", "NAME,..."};
-	TCLAP::ValueArg<std::string> policy{
-		"", "policy", "landmark policy of the window: slam, constant-time, map, a comma-separated list, both or all (Default: slam)", false, "", "P"};
-	TCLAP::ValueArg<std::string> fej{"", "fej", "first-estimate Jacobians: on, off or both (Default: on)", false, "",
-									 "on|off|both"};
-	TCLAP::ValueArg<std::string> landmarks{
-		"", "landmarks", "landmark parameterisation: inverse-depth or xyz (Default: inverse-depth)", false, "", "P"};
-	TCLAP::ValueArg<std::string> gauge{"", "gauge", "gauge: fixed (first pose constant), free or prior (Default: fixed)",
-									   false, "", "G"};
-	TCLAP::ValueArg<std::string> association{
-		"", "association",
-		"data association of the readings (doc/association.md): auto (the readings' landmark IDs if every reading "
-		"has one, else jcbb), ids, nn or jcbb (Default: auto)",
-		false, "", "A"};
-	TCLAP::ValueArg<double> std_range{"", "sensor-std-range",
-									  "range noise (m) for every estimator (Default: the observation's own)", false, 0, "M"};
-	TCLAP::ValueArg<double> std_yaw{"", "sensor-std-yaw-deg",
-									"yaw noise (deg) for every estimator (Default: the observation's own)", false, 0, "D"};
-	TCLAP::ValueArg<double> std_pitch{"", "sensor-std-pitch-deg",
-									  "pitch noise (deg) for every estimator (Default: the observation's own)", false, 0,
-									  "D"};
-	TCLAP::ValueArg<std::string> gate{"", "gate",
-									  "chi-square gate of the bearing-range readings (doc/outliers.md): on or off "
-									  "(Default: off)",
-									  false, "", "on|off"};
-	TCLAP::ValueArg<double> gate_probability{
-		"", "gate-probability", "share of correct readings the gate passes, in (0, 1) (Default: 0.999)", false, 0, "P"};
-	TCLAP::ValueArg<std::string> robust_loss{
-		"", "robust-loss", "robust loss of the range-bearing factors, window and batch: none, huber or cauchy (Default: cauchy)",
-		false, "", "L"};
-	TCLAP::ValueArg<double> robust_probability{
-		"", "robust-probability",
-		"robust-loss scale = sqrt of the chi-square (3 DoF) quantile at this probability, in (0, 1) (Default: 0.99)",
-		false, 0, "P"};
-	TCLAP::ValueArg<int> max_steps{"", "max-steps", "process at most N steps (0 = all) (Default: 0)", false, 0, "N"};
-	TCLAP::ValueArg<int> threads{"", "threads", "solver threads (Default: 1)", false, 1, "N"};
-	TCLAP::SwitchArg no_plots{"", "no-plots", "do not write gnuplot plots"};
-	TCLAP::SwitchArg no_progress{"", "no-progress", "no progress lines on stderr"};
-	TCLAP::SwitchArg verbose{"", "verbose", "each solve's summary on stderr: a line per window step, the batch's full report"};
-
-	RunCommandLine()
-	{
-		// --help lists them in this order (cli.cpp): input, main choices, tuning, output, verbosity.
-		for (TCLAP::Arg* a : std::initializer_list<TCLAP::Arg*>{
-				 &rawlog, &gt, &association_truth, &config,                                                      //
-				 &windows, &relinearized, &no_ekf, &no_batch, &causal, &ekf_method, &policy, &fej, &landmarks, &gauge, &association,  //
-				 &std_range, &std_yaw, &std_pitch, &gate, &gate_probability, &robust_loss, &robust_probability,
-				 &max_steps, &threads,  //
-				 &out, &no_plots,       //
-				 &no_progress, &verbose})
-			cmd.add(*a);
-	}
+		"INI file with options (sections [run] [window] [solver] [ekf] [sensor] [odometry]; see " + share_dir() +
+			"/config/swba_run.ini); unknown keys are errors",
+		false, "", "INI", cmd};
+	OverrideArg<std::string> windows{"windows", "LIST", "5,10,20,30", "window sizes W, comma-separated, each >= 2", cmd};
+	OverrideArg<int> relinearized{"relinearized-poses", "K", "2",
+		"poses of each window re-linearised at every step, the newest K (>= 2); the older ones are smoothed "
+		"as frozen linear conditionals (doc/window.md); 0 = the whole window", cmd};
+	TCLAP::SwitchArg no_ekf{"", "no-ekf", "do not run MRPT's EKF", cmd};
+	TCLAP::SwitchArg no_batch{"", "no-batch", "do not run the batch estimator", cmd};
+	TCLAP::SwitchArg causal{
+		"", "causal",
+		"also run the full-history causal optimum (online W=inf: re-solve the whole history after every step; O(steps^2))",
+		cmd};
+	OverrideArg<std::string> ekf_method{"ekf-method", "NAME,...", "kfEKFAlaDavison,kfEKFNaive",
+		"MRPT EKF methods, comma-separated: kfEKFNaive, kfEKFAlaDavison, kfIKFFull, kfIKF", cmd};
+	OverrideArg<std::string> policy{"policy", "P", "slam",
+		"landmark policy of the window: slam, constant-time, map, a comma-separated list, both or all", cmd};
+	OverrideArg<std::string> fej{"fej", "on|off|both", "on", "first-estimate Jacobians: on, off or both", cmd};
+	OverrideArg<std::string> landmarks{"landmarks", "P", "inverse-depth",
+		"landmark parameterisation: inverse-depth or xyz", cmd};
+	OverrideArg<std::string> gauge{"gauge", "G", "fixed", "gauge: fixed (first pose constant), free or prior", cmd};
+	OverrideArg<std::string> association{"association", "A", "auto",
+		"data association of the readings (doc/association.md): auto (the readings' landmark IDs if every "
+		"reading has one, else jcbb), ids, nn or jcbb", cmd};
+	OverrideArg<double> std_range = sensor_noise_arg("sensor-std-range", "M", "range noise (m)", cmd);
+	OverrideArg<double> std_yaw = sensor_noise_arg("sensor-std-yaw-deg", "D", "yaw noise (deg)", cmd);
+	OverrideArg<double> std_pitch = sensor_noise_arg("sensor-std-pitch-deg", "D", "pitch noise (deg)", cmd);
+	OverrideArg<std::string> gate{"gate", "on|off", "off",
+		"chi-square gate of the bearing-range readings (doc/outliers.md): on or off", cmd};
+	OverrideArg<double> gate_probability{"gate-probability", "P", "0.999",
+		"share of correct readings the gate passes, in (0, 1)", cmd};
+	OverrideArg<std::string> robust_loss{"robust-loss", "L", "cauchy",
+		"robust loss of the range-bearing factors, window and batch: none, huber or cauchy", cmd};
+	OverrideArg<double> robust_probability{"robust-probability", "P", "0.99",
+		"robust-loss scale = sqrt of the chi-square (3 DoF) quantile at this probability, in (0, 1)", cmd};
+	OverrideArg<int> max_steps{"max-steps", "N", "0", "process at most N steps (0 = all)", cmd};
+	OverrideArg<int> threads{"threads", "N", "1", "solver threads", cmd};
+	OverrideArg<std::string> out{"out", "DIR", "swba_out", "output directory, created", cmd};
+	TCLAP::SwitchArg no_plots{"", "no-plots", "do not write gnuplot plots", cmd};
+	TCLAP::SwitchArg no_progress{"", "no-progress", "no progress lines on stderr", cmd};
+	TCLAP::SwitchArg verbose{
+		"", "verbose", "each solve's summary on stderr: a line per window step, the batch's full report", cmd};
 
 	/** Overrides `o` with the options given on the command line (only those; TCLAP reads are not const). */
 	void apply(apps::RunOptions& o)

@@ -5,6 +5,7 @@
 #include <swba/estimators/inertial_window.h>
 #include <swba/problems/inertial_simulation.h>
 
+#include "position_error.h"
 
 #include <algorithm>
 #include <swba/core/timing.h>
@@ -20,11 +21,7 @@ namespace
 double rmse(const InertialTrajectory& tr, const InertialDataset& d, double rate)
 {
 	double s = 0;
-	for (std::size_t i = 0; i < tr.t.size(); i++)
-	{
-		const auto& g = d.truth.at(static_cast<std::size_t>(std::lround(tr.t[i] * rate))).pose;
-		s += std::pow(tr.poses[i].x() - g.x(), 2) + std::pow(tr.poses[i].y() - g.y(), 2) + std::pow(tr.poses[i].z() - g.z(), 2);
-	}
+	for (std::size_t i = 0; i < tr.t.size(); i++) s += bench::squared_position_error(tr.poses[i], tr.t[i], d, rate);
 	return std::sqrt(s / tr.t.size());
 }
 

@@ -8,6 +8,7 @@
 #include <swba/estimators/inertial_window.h>
 #include <swba/problems/inertial_simulation.h>
 
+#include "position_error.h"
 
 #include <cmath>
 #include <cstdio>
@@ -24,12 +25,7 @@ namespace
 double squared_error(const InertialTrajectory& tr, double t, const InertialDataset& d, double rate)
 {
 	for (std::size_t i = 0; i < tr.t.size(); i++)
-		if (std::abs(tr.t[i] - t) < 1e-6)
-		{
-			const auto& g = d.truth.at(static_cast<std::size_t>(std::lround(t * rate))).pose;
-			return std::pow(tr.poses[i].x() - g.x(), 2) + std::pow(tr.poses[i].y() - g.y(), 2) +
-				   std::pow(tr.poses[i].z() - g.z(), 2);
-		}
+		if (std::abs(tr.t[i] - t) < 1e-6) return bench::squared_position_error(tr.poses[i], t, d, rate);
 	std::fprintf(stderr, "no estimate at t = %.6f\n", t);
 	std::exit(1);
 }

@@ -7,6 +7,7 @@
 set -euo pipefail
 swba=$1 out=$2
 fail() { echo "FAIL: $*" >&2; exit 1; }
+source "$(dirname "$0")/same_files.sh"
 rm -rf "$out" && mkdir -p "$out"
 for s in 1 2; do
 	"$swba" simulate-imu --duration 8 --seed $s --out "$out/logs" --name imu$s >/dev/null 2>&1 || fail "simulate-imu seed $s"
@@ -28,11 +29,7 @@ sed -n 1p "$out/sweep/jobs.txt" | bash >/dev/null 2>&1 || fail "job 1 failed"
 "$swba" run "$out/logs/imu1.rawlog" --config "$out/sweep/config.ini" --out "$out/seq" >/dev/null 2>&1
 untimed() { awk '{ print substr($0, 1, length($0) - 12) }' "$1"; }  # the last column is ms/step
 cmp <(untimed "$out/seq/ape.txt") <(untimed "$out/sweep/merged/imu1/ape.txt") || fail "ape.txt differs"
-n=0
-for f in "$out"/seq/*.tum; do
-	cmp "$f" "$out/sweep/merged/imu1/$(basename "$f")" || fail "$(basename "$f") differs"
-	n=$((n + 1))
-done
+n=$(same_files "$out/seq" "$out/sweep/merged/imu1" "*.tum")
 [ "$n" -eq 8 ] || fail "expected 8 TUM files (eskf, imu only, odometry only, 2 W x online/lagged, batch), got $n"
 grep -q "^APE translation rmse (m) over 2 rawlogs" "$out/merged.txt" || fail "no table across the rawlogs"
 grep -q -E "^window W=10 lagged +2 +0 " "$out/merged.txt" || fail "no W=10 lagged row over 2 runs"

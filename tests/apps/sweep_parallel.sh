@@ -9,6 +9,7 @@
 set -euo pipefail
 swba=$1 out=$2 rawlog=$3
 fail() { echo "FAIL: $*" >&2; exit 1; }
+source "$(dirname "$0")/same_files.sh"
 rm -rf "$out" && mkdir -p "$out"
 command -v parallel >/dev/null || fail "GNU parallel not found (scripts/install-deps.sh installs it)"
 parallel --version 2>/dev/null | head -1 | grep -q "GNU parallel" || fail "'parallel' is not GNU parallel"
@@ -31,17 +32,10 @@ parallel -j 2 --joblog "$out/sweep/joblog" <"$out/sweep/jobs.txt" >"$out/paralle
 
 m="$out/sweep/merged/$(basename "$rawlog" .rawlog)"
 cmp "$out/seq/ape.txt" "$m/ape.txt" || fail "ape.txt differs"
-n=0
-for f in "$out"/seq/*.tum; do
-	cmp "$f" "$m/$(basename "$f")" || fail "$(basename "$f") differs"
-	n=$((n + 1))
-done
+n=$(same_files "$out/seq" "$m" "*.tum")
 [ "$n" -eq 12 ] || fail "expected 12 TUM files (gt, ekf, 2 W x FEJ on/off x online/lagged, batch from two starts), got $n"
 # Covariance files (when swba run writes them): copied byte for byte too.
-for f in "$out"/seq/*.cov; do
-	[ -e "$f" ] || continue
-	cmp "$f" "$m/$(basename "$f")" || fail "$(basename "$f") differs"
-done
+same_files "$out/seq" "$m" "*.cov" >/dev/null
 # Wall times are each job's own: every JSON key and CSV column named *seconds or ms_per_step, and the
 # table's columns right of "full rmse", are left out of the comparison.
 untimed_json() { grep -v -E '"[a-z_]*(seconds|ms_per_step)":' "$1"; }

@@ -23,7 +23,6 @@
 namespace swba::apps
 {
 namespace fs = std::filesystem;
-using nlohmann::ordered_json;
 
 namespace
 {
@@ -163,11 +162,12 @@ std::string format_across_csv(const AcrossRawlogs& a)
 	return s.str();
 }
 
-/** A rawlog's jobs' summary.json files; throws std::runtime_error when they did not run on the same rawlog. */
-std::vector<JobSummary> read_group_jobs(const SweepPlan& plan, const SweepGroup& g)
+/** A rawlog's jobs' summaries, moved out of every job's (read_complete_jobs); throws std::runtime_error
+ * when they did not run on the same rawlog. */
+std::vector<JobSummary> group_jobs(std::vector<JobSummary>& summaries, const SweepGroup& g)
 {
 	std::vector<JobSummary> jobs;
-	for (std::size_t id : g.jobs) jobs.push_back(read_job_summary(job_directory(plan, plan.jobs[id - 1])));
+	for (std::size_t id : g.jobs) jobs.push_back(std::move(summaries[id - 1]));
 	for (const auto& j : jobs)
 		for (const char* key : {"steps", "landmarks", "ground_truth"})
 			if (j.json.at(key) != jobs.front().json.at(key))
@@ -238,18 +238,17 @@ void draw_merged_plots(const RunOptions& run, const std::string& dir, RunReport&
 
 /** An inertial rawlog: its one job's outputs copied into `dir` as they are; `table` is its ape.txt and
  * the report's rows carry the labels and APE of its summary.json (for the table across rawlogs). */
-RunReport merge_inertial_group(const SweepPlan& plan, const SweepGroup& g, const std::string& dir, std::string& table,
+RunReport merge_inertial_group(const JobSummary& job, const std::string& dir, std::string& table,
 							   std::vector<std::string>& files)
 {
-	const std::string job_dir = job_directory(plan, plan.jobs[g.jobs.front() - 1]);
+	const std::string& job_dir = job.dir;
 	std::error_code ec;
 	fs::create_directories(dir, ec);
 	if (ec) throw std::runtime_error("cannot create '" + dir + "': " + ec.message());
 	for (const auto& entry : fs::directory_iterator(job_dir))
 		if (entry.is_regular_file()) copy_file(entry.path().string(), dir + "/" + entry.path().filename().string(), files);
 	table = read_text_file(job_dir + "/ape.txt", "job output");
-	std::ifstream f = open_input_file(job_dir + "/summary.json", std::ios::in, "job summary");
-	const ordered_json j = ordered_json::parse(f);
+	const ordered_json& j = job.json;
 	RunReport report;
 	report.rawlog = j.at("rawlog").get<std::string>();
 	for (const auto& e : j.at("rows"))
@@ -264,10 +263,9 @@ RunReport merge_inertial_group(const SweepPlan& plan, const SweepGroup& g, const
 }
 
 /** One rawlog: its jobs merged into `dir`. */
-RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptions& config, const std::string& dir,
-					  const MergeOptions& options, std::vector<std::string>& files)
+RunReport merge_group(const SweepPlan& plan, const std::vector<JobSummary>& jobs, const RunOptions& config,
+					  const std::string& dir, const MergeOptions& options, std::vector<std::string>& files)
 {
-	const std::vector<JobSummary> jobs = read_group_jobs(plan, g);
 	ordered_json merged = jobs.front().json;
 	const auto rows = merged_estimators(jobs);
 	merged["estimators"] = ordered_json::array();
@@ -305,7 +303,7 @@ RunReport merge_group(const SweepPlan& plan, const SweepGroup& g, const RunOptio
 
 RunMerge merge_run_sweep(const SweepPlan& plan, const MergeOptions& options, std::ostream& out, std::ostream& log)
 {
-	check_mergeable(plan, SweepKind::Run, "run", log);
+	std::vector<JobSummary> summaries = check_mergeable(plan, SweepKind::Run, "run", log);
 	RunOptions config;
 	load_run_config(plan.dir + "/config.ini", config);
 	const std::string out_dir = options.out_dir.empty() ? plan.dir + "/merged" : options.out_dir;
@@ -315,8 +313,9 @@ RunMerge merge_run_sweep(const SweepPlan& plan, const MergeOptions& options, std
 	{
 		const std::string dir = out_dir + "/" + g.name;
 		std::string table;
-		RunReport report = g.inertial ? merge_inertial_group(plan, g, dir, table, result.files)
-									  : merge_group(plan, g, config, dir, options, result.files);
+		RunReport report = g.inertial
+							   ? merge_inertial_group(summaries[g.jobs.front() - 1], dir, table, result.files)
+							   : merge_group(plan, group_jobs(summaries, g), config, dir, options, result.files);
 		out << (g.inertial ? table : format_comparison_table(report)) << "\n" << std::flush;
 		for (const auto& note : report.notes) log << "note: " << g.name << ": " << note << "\n";
 		for (const auto& r : report.rows)

@@ -171,7 +171,7 @@ std::string write_nees_files(const std::string& dir, const MergeOptions& options
 
 NeesReport merge_nees_sweep(const SweepPlan& plan, const MergeOptions& options, std::ostream& out, std::ostream& log)
 {
-	check_mergeable(plan, SweepKind::Nees, "NEES", log);
+	const std::vector<JobSummary> summaries = check_mergeable(plan, SweepKind::Nees, "NEES", log);
 	NeesReport report;
 	report.simulate_ini = plan.simulate_ini;
 	NeesRunsByLabel runs;
@@ -179,8 +179,7 @@ NeesReport merge_nees_sweep(const SweepPlan& plan, const MergeOptions& options, 
 	for (const auto& g : plan.groups)
 	{
 		report.seeds.push_back(g.seed);
-		for (std::size_t id : g.jobs)
-			add_job_nees(read_job_summary(job_directory(plan, plan.jobs[id - 1])), g.seed, report, index, runs);
+		for (std::size_t id : g.jobs) add_job_nees(summaries[id - 1], g.seed, report, index, runs);
 	}
 	for (auto& e : report.estimators)
 	{

@@ -6,6 +6,8 @@
 #include <swba/eval/ground_truth.h>
 #include <swba/io/observation_rawlog.h>
 
+#include "summary_json.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -21,7 +23,6 @@
 namespace swba::apps
 {
 namespace fs = std::filesystem;
-using nlohmann::ordered_json;
 
 namespace
 {
@@ -384,17 +385,6 @@ std::size_t full_job_of(const SweepPlan& plan, std::size_t g)
 	return best;
 }
 
-/** Why an inertial job's summary.json is not a complete inertial report ("" when it is): swba run
- * writes it once, after every row. */
-std::string inertial_summary_problem(const std::string& path)
-{
-	std::ifstream f(path);
-	const ordered_json j = ordered_json::parse(f, nullptr, false);
-	if (j.is_discarded() || j.value("kind", "") != "inertial" || !j.contains("rows") || !j["rows"].is_array())
-		return "summary.json is not a swba run summary of an inertial rawlog";
-	return "";
-}
-
 /** The rows a job's summary.json has when the job ran to its end: a job stopped half-way (killed) leaves
  * the summary of the estimators it completed, which must not pass for a complete one. */
 std::size_t expected_rows(const RunOptions& o, const SweepJob& job)
@@ -405,45 +395,56 @@ std::size_t expected_rows(const RunOptions& o, const SweepJob& job)
 	return (o.run_ekf ? o.ekf_methods.size() : 0) + o.policies.size() * o.fej.size() * windows * 2 + batch +
 		   (o.run_causal ? 1 : 0);
 }
+
+/** Why the summary `j` (parsed, or discarded when not JSON) of a job is not complete ("" when it is).
+ * An inertial job's: swba run writes it once, after every row. A range-bearing job's: `expected`
+ * estimator rows, none interrupted. */
+std::string summary_problem(const ordered_json& j, bool inertial, std::size_t expected)
+{
+	if (inertial)
+		return j.is_discarded() || j.value("kind", "") != "inertial" || !j.contains("rows") || !j["rows"].is_array()
+				   ? "summary.json is not a swba run summary of an inertial rawlog"
+				   : "";
+	if (j.is_discarded() || !j.contains("estimators") || !j["estimators"].is_array())
+		return "summary.json is not a swba run summary";
+	for (const auto& e : j["estimators"])
+		if (e.value("interrupted", false)) return "interrupted";
+	if (j["estimators"].size() != expected)
+		return "summary.json has " + std::to_string(j["estimators"].size()) + " estimator rows, expected " +
+			   std::to_string(expected) + " (the job stopped before its end)";
+	return "";
+}
 }  // namespace
 
-void check_jobs_complete(const SweepPlan& plan, std::ostream& log)
+void check_jobs_complete(const SweepPlan& plan, std::ostream& log) { read_complete_jobs(plan, log); }
+
+std::vector<JobSummary> read_complete_jobs(const SweepPlan& plan, std::ostream& log)
 {
 	RunOptions first_config, other_config;
 	load_run_config(plan.dir + "/" + kRunConfig, first_config);
 	if (plan.kind == SweepKind::Run) load_run_config(plan.dir + "/" + kWindowsConfig, other_config);
+	std::vector<JobSummary> summaries;
 	std::vector<std::string> missing;
 	std::size_t first = 0;
 	for (const auto& job : plan.jobs)
 	{
 		const bool first_of_group = full_job_of(plan, job.group) == job.id;
 		const std::size_t expected = expected_rows(first_of_group ? first_config : other_config, job);
-		const std::string summary = job_directory(plan, job) + "/summary.json";
-		std::string why;
-		if (!fs::is_regular_file(summary))
-			why = "no summary.json";
-		else if (plan.groups[job.group].inertial)
-			why = inertial_summary_problem(summary);
-		else
+		JobSummary& s = summaries.emplace_back();
+		s.dir = job_directory(plan, job);
+		s.path = s.dir + "/summary.json";
+		std::string why = "no summary.json";
+		if (fs::is_regular_file(s.path))
 		{
-			std::ifstream f(summary);
-			const ordered_json j = ordered_json::parse(f, nullptr, false);
-			if (j.is_discarded() || !j.contains("estimators") || !j["estimators"].is_array())
-				why = "summary.json is not a swba run summary";
-			else
-			{
-				for (const auto& e : j["estimators"])
-					if (e.value("interrupted", false)) why = "interrupted";
-				if (why.empty() && j["estimators"].size() != expected)
-					why = "summary.json has " + std::to_string(j["estimators"].size()) + " estimator rows, expected " +
-						  std::to_string(expected) + " (the job stopped before its end)";
-			}
+			std::ifstream f(s.path);
+			s.json = ordered_json::parse(f, nullptr, false);
+			why = summary_problem(s.json, plan.groups[job.group].inertial, expected);
 		}
 		if (why.empty()) continue;
 		if (missing.empty()) first = job.id;
 		missing.push_back("job " + std::to_string(job.id) + " (" + job.dir + "): " + why);
 	}
-	if (missing.empty()) return;
+	if (missing.empty()) return summaries;
 	for (const auto& m : missing) log << "swba merge: " << m << "\n";
 	throw std::runtime_error("sweep '" + plan.dir + "': " + std::to_string(missing.size()) + " of " +
 							 std::to_string(plan.jobs.size()) +

@@ -3,37 +3,14 @@
 
 #include "../run/summary_fields.h"
 
-#include <swba/core/file.h>
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 #include <vector>
 
 namespace swba::apps
 {
-using nlohmann::ordered_json;
-
-JobSummary read_job_summary(const std::string& dir)
-{
-	JobSummary s;
-	s.dir = dir;
-	s.path = dir + "/summary.json";
-	std::ifstream f = open_input_file(s.path, std::ios::in, "job summary");
-	try
-	{
-		s.json = ordered_json::parse(f);
-	}
-	catch (const nlohmann::json::exception& e)
-	{
-		throw std::runtime_error(s.path + ": not JSON: " + e.what());
-	}
-	if (!s.json.is_object() || !s.json.contains("estimators") || !s.json["estimators"].is_array())
-		throw std::runtime_error(s.path + ": no \"estimators\" array: not a swba run summary");
-	return s;
-}
-
 namespace
 {
 std::string string_or_empty(const ordered_json& e, const char* key)
@@ -139,9 +116,10 @@ std::string find_covariance_file(const std::string& dir, const RunRow& row)
 	return "";
 }
 
-void check_mergeable(const SweepPlan& plan, SweepKind kind, const std::string& what, std::ostream& log)
+std::vector<JobSummary> check_mergeable(const SweepPlan& plan, SweepKind kind, const std::string& what,
+										std::ostream& log)
 {
 	if (plan.kind != kind) throw std::invalid_argument("not a " + what + " sweep");
-	check_jobs_complete(plan, log);
+	return read_complete_jobs(plan, log);
 }
 }  // namespace swba::apps

@@ -30,13 +30,9 @@ enum class PoseRelation
 /** The command-line names; evo's `-r` names trans_part / rot_part are accepted too. */
 constexpr std::array<EnumName<PoseRelation>, 7> enum_names(PoseRelation)
 {
-	return {{{PoseRelation::TranslationPart, "trans"},
-			 {PoseRelation::FullTransformation, "full"},
-			 {PoseRelation::RotationPart, "rot"},
-			 {PoseRelation::RotationAngleDeg, "angle_deg"},
-			 {PoseRelation::RotationAngleRad, "angle_rad"},
-			 {PoseRelation::TranslationPart, "trans_part", true},
-			 {PoseRelation::RotationPart, "rot_part", true}}};
+	return {{{PoseRelation::TranslationPart, "trans"}, {PoseRelation::FullTransformation, "full"}, {PoseRelation::RotationPart, "rot"},
+			 {PoseRelation::RotationAngleDeg, "angle_deg"}, {PoseRelation::RotationAngleRad, "angle_rad"},
+			 {PoseRelation::TranslationPart, "trans_part", true}, {PoseRelation::RotationPart, "rot_part", true}}};
 }
 
 /** Parses the command-line names "trans", "full", "rot", "angle_deg", "angle_rad" (evo's `-r` names

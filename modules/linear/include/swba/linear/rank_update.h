@@ -27,12 +27,7 @@ namespace swba
 {
 /** The instruction sets of the kernels (x86-64: baseline = SSE2; avx2 = AVX2 + FMA; avx512 = AVX-512
  * F, DQ, VL, BW with AVX2 + FMA). Other architectures have the baseline, compiled for their default. */
-enum class SimdLevel
-{
-	Baseline,
-	Avx2,
-	Avx512
-};
+enum class SimdLevel { Baseline, Avx2, Avx512 };
 constexpr std::array<EnumName<SimdLevel>, 3> enum_names(SimdLevel)
 {
 	return {{{SimdLevel::Baseline, "baseline"}, {SimdLevel::Avx2, "avx2"}, {SimdLevel::Avx512, "avx512"}}};
