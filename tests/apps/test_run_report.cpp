@@ -364,13 +364,14 @@ TEST(RunSummaryJson, ReadingCountsPerEstimator)
 	c.excluded = 6;
 	c.down_weighted = 3;
 	c.young_held_steps = 9;
+	c.association_cut = 2;
 	rep.rows[1].reading_counts = c;
 	const Json j = Json::parse(swba::apps::format_summary_json(rep));
 	const Json& with = j["estimators"][1];
 	ASSERT_TRUE(with["readings"].is_object());
 	EXPECT_EQ(keys_of(with["readings"]),
 			  (std::vector<std::string>{"processed", "gated", "readmitted", "reassociated", "ambiguous", "unconfirmed",
-										"excluded", "down_weighted", "young_held_steps"}));
+										"excluded", "down_weighted", "young_held_steps", "association_cut"}));
 	EXPECT_EQ(with["readings"]["processed"], 100);
 	EXPECT_EQ(with["readings"]["gated"], 7);
 	EXPECT_EQ(with["readings"]["readmitted"], 2);
@@ -380,6 +381,7 @@ TEST(RunSummaryJson, ReadingCountsPerEstimator)
 	EXPECT_EQ(with["readings"]["excluded"], 6);
 	EXPECT_EQ(with["readings"]["down_weighted"], 3);
 	EXPECT_EQ(with["readings"]["young_held_steps"], 9);
+	EXPECT_EQ(with["readings"]["association_cut"], 2);
 	EXPECT_TRUE(j["estimators"][0]["readings"].is_null());
 }
 

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -104,6 +105,32 @@ TEST(DataAssociation, JcbbLeavesOutAPairingThatIsNotJointlyCompatible)
 	const AssociationProblem p = two_landmarks(10, {0.27, 10.29});
 	EXPECT_EQ(swba::estimators::associate(p, DataAssociation::Jcbb, 0.99), (std::vector<int>{0, -1}));
 	EXPECT_EQ(swba::estimators::associate(p, DataAssociation::NearestNeighbour, 0.99), (std::vector<int>{0, 1}));
+}
+
+TEST(DataAssociation, JcbbSearchStopsAtItsBudgetWithAFullPairing)
+{
+	// Twelve readings and twelve landmarks at one point: every pairing is jointly compatible and the 12!
+	// orders tie on pairs, so the search for the nearest cannot finish; it stops at its budget, says so,
+	// and keeps the full pairing its first descent found.
+	AssociationProblem p;
+	p.dim = 2;
+	const int n = 12;
+	p.prediction_covariance = 0.01 * Eigen::MatrixXd::Identity(2 * n, 2 * n);
+	for (int i = 0; i < n; i++)
+	{
+		p.predictions.push_back(Eigen::Vector2d(0, 0));
+		p.readings.push_back(Eigen::Vector2d(0.001 * i, 0));
+		p.reading_covariances.push_back(1e-4 * Eigen::Matrix2d::Identity());
+	}
+	bool cut = false;
+	const std::vector<int> a = swba::estimators::associate(p, DataAssociation::Jcbb, 0.99, &cut);
+	EXPECT_TRUE(cut);
+	std::vector<int> sorted = a;
+	std::sort(sorted.begin(), sorted.end());
+	for (int j = 0; j < n; j++) EXPECT_EQ(sorted[static_cast<std::size_t>(j)], j);  // each landmark once
+	bool small_cut = true;
+	swba::estimators::associate(two_landmarks(0.3, {0.22}), DataAssociation::Jcbb, 0.99, &small_cut);
+	EXPECT_FALSE(small_cut);
 }
 
 TEST(AssociationQuality, CountsCorrectDuplicateAndSpuriousLandmarks)

@@ -7,6 +7,9 @@
 #include "landmark_store.h"
 #include "reassociation_moves.h"
 
+#include <swba/core/manifold.h>
+#include <swba/nonlinear/problem.h>
+
 #include <cmath>
 #include <map>
 #include <set>
@@ -187,6 +190,33 @@ TEST(MatchReadings, ListsEveryCompatibleCandidateNearestFirst)
 	EXPECT_EQ(m.compatible[0], (std::vector<int>{1, 0}));
 	EXPECT_TRUE(m.compatible[1].empty());
 	EXPECT_EQ(m.target, (std::vector<int>{1, -1}));
+}
+
+TEST(LandmarkPredictor, PredictionsKeepThePoseLandmarkCrossCovariances)
+{
+	// One pose at the origin and two world-point landmarks ahead of it; the group's covariance is dense
+	// (the pose correlated with both landmarks, as after a stretch of dead reckoning). The predictions'
+	// joint covariance must be J Σ Jᵀ with all of Σ, not with its diagonal only.
+	Problem problem;
+	const VariableId pose = problem.add_pose(mrpt::poses::CPose3D());
+	const VariableId a = problem.add_variable(Eigen::Vector3d(5, 1, 0), euclidean_manifold(3));
+	const VariableId b = problem.add_variable(Eigen::Vector3d(6, -1, 0.5), euclidean_manifold(3));
+	const std::vector<PoseRecord> poses{{0.0, pose, mrpt::poses::CPose3D()}};
+	const LandmarkPredictor predictor(problem, poses, PoseModel::Spatial, true);
+	Landmark la = store_landmark(1, a, {}), lb = store_landmark(2, b, {});
+	const std::vector<PredictionTarget> targets{{&la, nullptr}, {&lb, nullptr}};
+	const LandmarkPredictor::Group g = predictor.group(0, targets);
+	ASSERT_EQ(g.dim, 12);
+	Eigen::MatrixXd A = Eigen::MatrixXd::Random(12, 12);
+	CovarianceResult cov;
+	cov.ok = true;
+	cov.blocks.push_back(0.01 * (A * A.transpose() + Eigen::MatrixXd::Identity(12, 12)));
+	const JointPrediction pred = predictor.predict(0, targets, g, cov);
+	ASSERT_TRUE(pred.ok);
+	const Eigen::MatrixXd J = pred.jacobian;
+	const Eigen::MatrixXd expected = J.middleRows(0, 3) * cov.blocks.front() * J.middleRows(3, 3).transpose();
+	EXPECT_LT((pred.covariance_of(0, 1, 3) - expected).norm(), 1e-9 * expected.norm());
+	EXPECT_GT(expected.norm(), 1e-3);
 }
 
 TEST(ReassociationMoves, AMisfitReadingMovesToTheLandmarkItFits)

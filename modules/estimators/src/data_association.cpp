@@ -77,11 +77,19 @@ class JointCompatibility
 		for (int k = 0; k <= m; k++) joint_gate_.push_back(k ? chi2_quantile(probability, p.dim * k) : 0.0);
 	}
 
-	std::vector<int> solve()
+	/** The best pairing; `cut`: the search stopped at kMaxNodes, the best found so far is returned. */
+	std::vector<int> solve(bool& cut)
 	{
 		search(0, 0, 0.0);
+		cut = nodes_ > kMaxNodes;
 		return best_;
 	}
+
+	/** Nodes a search may visit: JCBB is exponential in the readings of a step, and a step of many
+	 * readings each compatible with several landmarks would not end. The depth-first search, nearest
+	 * candidates first, has a full hypothesis after its first descent. On the logs measured the most
+	 * a step took was 229 nodes (doc/association.md). */
+	static constexpr std::size_t kMaxNodes = 20000;
 
    private:
 	/** Readings from `i` on, with `pairs` pairings of joint distance `d2` made before. The joint distance
@@ -89,6 +97,7 @@ class JointCompatibility
 	 * nearer, is cut. */
 	void search(int i, int pairs, double d2)
 	{
+		if (++nodes_ > kMaxNodes) return;
 		const auto can_beat = [&](int most) { return most > best_pairs_ || (most == best_pairs_ && d2 < best_d2_); };
 		if (i == static_cast<int>(p_.readings.size()))
 		{
@@ -138,6 +147,7 @@ class JointCompatibility
 	std::vector<std::vector<int>> candidates_;  ///< per reading, its individually compatible predictions
 	std::vector<int> later_;
 	std::vector<int> current_, best_;
+	std::size_t nodes_ = 0;
 	int best_pairs_ = 0;
 	double best_d2_ = std::numeric_limits<double>::infinity();
 };
@@ -151,8 +161,9 @@ double association_distance(const AssociationProblem& p, int i, int j)
 	return e.dot(S.ldlt().solve(e));
 }
 
-std::vector<int> associate(const AssociationProblem& p, DataAssociation method, double probability)
+std::vector<int> associate(const AssociationProblem& p, DataAssociation method, double probability, bool* cut)
 {
+	if (cut) *cut = false;
 	if (method != DataAssociation::NearestNeighbour && method != DataAssociation::Jcbb)
 		throw std::invalid_argument("associate: the method must be nn or jcbb");
 	const int d = p.dim;
@@ -160,7 +171,13 @@ std::vector<int> associate(const AssociationProblem& p, DataAssociation method, 
 	const int n = static_cast<int>(p.predictions.size());
 	std::vector<int> out(m, -1);
 	if (m == 0 || n == 0) return out;
-	if (method == DataAssociation::Jcbb) return JointCompatibility(p, probability).solve();
+	if (method == DataAssociation::Jcbb)
+	{
+		bool stopped = false;
+		std::vector<int> best = JointCompatibility(p, probability).solve(stopped);
+		if (cut) *cut = stopped;
+		return best;
+	}
 	mrpt::math::CMatrixDouble Z(m, d), Y(n, d);
 	for (int i = 0; i < m; i++)
 		for (int c = 0; c < d; c++) Z(i, c) = p.readings[i][c];

@@ -259,7 +259,7 @@ ReadingMatch match_readings(const std::vector<std::pair<std::int32_t, Observatio
 			prob.prediction_covariance.block(a * dim, b * dim, dim, dim) =
 				pred.covariance_of(ja, kept[static_cast<std::size_t>(b)], dim);
 	}
-	out.target = associate(prob, method, probability);
+	out.target = associate(prob, method, probability, &out.search_cut);
 	for (int& j : out.target)
 		if (j >= 0) j = kept[static_cast<std::size_t>(j)];
 	return out;

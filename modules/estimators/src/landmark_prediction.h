@@ -76,6 +76,7 @@ struct ReadingMatch
 	/** The targets individually compatible with it (inside the χ² gate), nearest first: the choice the
 	 * association had (a reading compatible with two landmarks or more is ambiguous on its own). */
 	std::vector<std::vector<int>> compatible;
+	bool search_cut = false;  ///< JCBB's search stopped at its node budget (associate)
 };
 
 /** Data association of one step's `readings` (ID field ignored) with the `num_candidates` targets of

@@ -69,6 +69,7 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 								 ": the window's covariance cannot be recovered (" + pred.message + ")");
 	const ReadingMatch match =
 		match_readings(readings, pred, cand.size(), association_, opt_.gate_probability, reading_dof());
+	if (match.search_cut) counts_.association_cut++;
 	assigned.clear();
 	matched.assign(readings.size(), false);
 	for (std::size_t i = 0; i < readings.size(); i++)

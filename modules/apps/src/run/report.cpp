@@ -197,7 +197,7 @@ ordered_json readings_object(const estimators::ReadingCounts& c)
 		{"readmitted", c.readmitted},      {"reassociated", c.reassociated},
 		{"ambiguous", c.ambiguous},        {"unconfirmed", c.unconfirmed},
 		{"excluded", c.excluded},          {"down_weighted", c.down_weighted},
-		{"young_held_steps", c.young_held_steps}};
+		{"young_held_steps", c.young_held_steps}, {"association_cut", c.association_cut}};
 	ordered_json j;
 	for (const auto& [key, n] : counts) j[key] = n;
 	return j;

@@ -272,7 +272,11 @@ void add_reading_notes(RunReport& report)
 							   " down-weighted" +
 							   (c.young_held_steps > 0 ? "; young landmarks' readings kept re-linearised on " +
 															 std::to_string(c.young_held_steps) + " steps"
-													   : std::string()));
+													   : std::string()) +
+							   (c.association_cut > 0 ? "; JCBB's search cut at its node budget on " +
+															std::to_string(c.association_cut) +
+															" steps (the best pairing found so far kept)"
+													  : std::string()));
 	}
 }
 }  // namespace

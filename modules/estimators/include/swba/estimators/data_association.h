@@ -54,8 +54,11 @@ struct AssociationProblem
  * within the χ² quantile at `probability` with d degrees of freedom (the individual-compatibility
  * gate; JCBB's joint test uses the quantile of d·k degrees of freedom for k pairs, and of the
  * hypotheses with the most pairs keeps the one of smallest joint distance). `method` is
- * NearestNeighbour or Jcbb (throws std::invalid_argument otherwise). Deterministic. */
-std::vector<int> associate(const AssociationProblem& problem, DataAssociation method, double probability);
+ * NearestNeighbour or Jcbb (throws std::invalid_argument otherwise). Deterministic. JCBB's search
+ * is exponential in the readings: it stops after a fixed number of nodes (20 000) with the best
+ * pairing found so far, and sets `*cut` (when given) to say so. */
+std::vector<int> associate(const AssociationProblem& problem, DataAssociation method, double probability,
+						   bool* cut = nullptr);
 
 /** Squared Mahalanobis distance of reading i to prediction j (the individual-compatibility test). */
 double association_distance(const AssociationProblem& problem, int reading, int prediction);

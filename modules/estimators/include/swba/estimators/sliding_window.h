@@ -244,6 +244,9 @@ struct ReadingCounts
 	 * they arrived (inside the χ² gate of each against the window's joint prediction), which one
 	 * reading alone cannot decide between. */
 	std::size_t ambiguous = 0;
+	/** Window, JCBB: steps whose association search stopped at its node budget and kept the best
+	 * pairing found so far (estimators::associate). */
+	std::size_t association_cut = 0;
 	/** First readings of a landmark that no later reading confirmed while their pose was in the window
 	 * (window only; most are landmarks seen once, which carry no information). */
 	std::size_t unconfirmed = 0;
