@@ -1,4 +1,4 @@
-// Nearest neighbour through MRPT's data_association_full_covariance; JCBB written here (see jcbb()).
+// Nearest neighbour through MRPT's data_association_full_covariance; JCBB written here (JointCompatibility).
 #include <swba/estimators/data_association.h>
 
 #include <swba/core/chi2.h>
