@@ -67,7 +67,7 @@ class LevenbergMarquardt
 	bool try_step(IterationSummary& it);
 	StepOutcome judge_step(const detail::TrialEvaluation& trial, IterationSummary& it) const;
 	void accept_step(double new_cost, IterationSummary& it);
-	void reject_step(bool solved);
+	void reject_step(bool solved, const IterationSummary& it);
 	void check_gradient_and_cost();
 	void record(IterationSummary& it, bool accepted);
 	double evaluate_with_jacobians();
@@ -185,7 +185,7 @@ bool LevenbergMarquardt::iterate()
 		}
 		accepted = try_step(it);
 	}
-	if (!accepted) reject_step(solved);
+	if (!accepted) reject_step(solved, it);
 	it.iteration_time_s = seconds_since(t_iter);
 	record(it, accepted);
 	return true;
@@ -222,6 +222,7 @@ StepOutcome LevenbergMarquardt::judge_step(const detail::TrialEvaluation& trial,
 	for (int f : trial.left) predicted -= ctx_.equations().factor_model_decrease(f, delta_);
 	// With no domain change this is exactly cost_ − trial.cost.
 	it.cost_change = (cost_ - trial.left_cost) - (trial.cost - trial.entered_cost);
+	it.model_cost_change = predicted;
 	it.relative_decrease = predicted > 0 ? it.cost_change / predicted : 0.0;
 	if (!std::isfinite(trial.cost)) return StepOutcome::CostNotFinite;
 	if (!(predicted > 0)) return StepOutcome::NoPredictedDecrease;
@@ -247,12 +248,21 @@ void LevenbergMarquardt::accept_step(double new_cost, IterationSummary& it)
 		check_gradient_and_cost();
 }
 
-void LevenbergMarquardt::reject_step(bool solved)
+/** A rejected trial ends the solve when both its cost change and the decrease the model predicted for it
+ * are within the function tolerance: the solve is at the minimum the model can see, and a smaller trust
+ * region would only repeat the rejection (with first-estimate Jacobians the model's minimum is a little
+ * off the cost's). A large predicted decrease (an overshoot that happens to land at an equal cost) goes
+ * on with a smaller region. */
+void LevenbergMarquardt::reject_step(bool solved, const IterationSummary& it)
 {
 	summary_.unsuccessful_steps++;
 	strategy_.step_rejected();
 	if (!solved) consecutive_failures_++;
-	if (strategy_.radius() < options_.min_trust_region_radius)
+	const double tolerance = options_.function_tolerance * cost_;
+	if (solved && std::isfinite(it.cost_change) && std::abs(it.cost_change) <= tolerance &&
+		it.model_cost_change <= tolerance)
+		finish(TerminationType::Convergence, "function tolerance reached");
+	else if (strategy_.radius() < options_.min_trust_region_radius)
 		finish(TerminationType::Convergence, "trust region radius below minimum");
 	else if (consecutive_failures_ >= kMaxConsecutiveFailures)
 		finish(TerminationType::Failure, "linear system not positive definite after 20 attempts");

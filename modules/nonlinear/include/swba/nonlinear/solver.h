@@ -70,7 +70,9 @@ struct SolverOptions
 {
 	/** Maximum number of LM iterations (accepted or rejected steps). Default 50. */
 	int max_iterations = 50;
-	/** Stop when |Δcost| / cost < function_tolerance after an accepted step. Default 1e-6. */
+	/** Stop when |Δcost| / cost ≤ function_tolerance after an accepted step, or after a rejected one whose
+	 * predicted decrease is also within it (at the minimum, where only rounding or a stale Jacobian moves
+	 * the cost). Default 1e-6. */
 	double function_tolerance = 1e-6;
 	/** Stop when max_i |g_i| ≤ gradient_tolerance (g = Jᵀr in the tangent space). Default 1e-10. */
 	double gradient_tolerance = 1e-10;
@@ -143,6 +145,7 @@ struct IterationSummary
 	double cost_change = 0;        ///< actual decrease over the factors evaluable before and after the step
 	double gradient_max_norm = 0;
 	double step_norm = 0;
+	double model_cost_change = 0;  ///< decrease the linear model predicts, over the same factors
 	double relative_decrease = 0;  ///< ρ, gain ratio (actual / predicted decrease, like for like)
 	double trust_region_radius = 0;
 	bool step_accepted = false;
