@@ -71,7 +71,7 @@ swba::apps::PgoAppOptions options_from(PgoCommandLine& a)
 	try
 	{
 		o.init = swba::problems::parse_pose_graph_init(a.init.getValue());
-		o.information = swba::parse_enum<swba::io::InformationPolicy>(a.information.getValue(), "information policy");
+		o.read.information = swba::parse_enum<swba::io::InformationPolicy>(a.information.getValue(), "information policy");
 		o.gauge = swba::problems::parse_pose_graph_gauge(a.gauge.getValue());
 		o.prior_sigma = a.prior_sigma.getValue();
 		o.rotation_error = swba::problems::parse_rotation_error(a.rotation_error.getValue());

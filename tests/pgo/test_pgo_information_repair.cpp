@@ -58,7 +58,7 @@ TEST(PgoInformationRepair, RepairLoadsCountsAndSolves)
 {
 	const std::string path = write_loop();
 	auto o = options(path);
-	o.information = swba::io::InformationPolicy::Repair;
+	o.read.information = swba::io::InformationPolicy::Repair;
 	std::ostringstream out, log;
 	const auto r = swba::apps::run_pgo_app(o, out, log);
 	EXPECT_EQ(r.repaired_information, 1);

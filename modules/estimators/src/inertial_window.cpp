@@ -16,6 +16,7 @@
 #include <deque>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 namespace swba::estimators
 {
@@ -394,14 +395,28 @@ void InertialGraph::record_all(InertialTrajectory& out) const
 {
 	for (const Kf& k : kfs_) record(out, k, Matrix6d::Zero());
 }
+
+/** What the window and the batch start from: the initial state and the keyframes after it. */
+struct InertialStart
+{
+	InertialInitialState init;
+	std::vector<KeyframeData> keyframes;
+};
+
+/** Validates `o`; throws std::invalid_argument, naming `run`, when no keyframe follows the initial state. */
+InertialStart inertial_start(const InertialInput& in, const InertialWindowOptions& o, const std::string& run)
+{
+	o.validate();
+	InertialStart s{initial_inertial_state(in, o.measurements.prior), {}};
+	s.keyframes = keyframes(in, o.measurements, s.init.t);
+	if (s.keyframes.empty()) throw std::invalid_argument(run + ": no keyframe");
+	return s;
+}
 }  // namespace
 
 InertialWindowResult run_inertial_window(const InertialInput& in, const InertialWindowOptions& o)
 {
-	o.validate();
-	const InertialInitialState init = initial_inertial_state(in, o.measurements.prior);
-	const std::vector<KeyframeData> kd = keyframes(in, o.measurements, init.t);
-	if (kd.empty()) throw std::invalid_argument("inertial window: no keyframe");
+	const auto [init, kd] = inertial_start(in, o, "inertial window");
 	InertialGraph g(o, in, o.window_size);
 	InertialWindowResult r;
 	for (std::size_t i = 0; i < kd.size(); i++)
@@ -423,10 +438,7 @@ InertialWindowResult run_inertial_window(const InertialInput& in, const Inertial
 
 InertialTrajectory run_inertial_batch(const InertialInput& in, const InertialWindowOptions& o)
 {
-	o.validate();
-	const InertialInitialState init = initial_inertial_state(in, o.measurements.prior);
-	const std::vector<KeyframeData> kd = keyframes(in, o.measurements, init.t);
-	if (kd.empty()) throw std::invalid_argument("inertial batch: no keyframe");
+	const auto [init, kd] = inertial_start(in, o, "inertial batch");
 	// Initial values from the filter (IMU dead reckoning over the whole run would be far off).
 	const InertialTrajectory f = run_inertial_filter(in, o.measurements);
 	if (f.t.size() != kd.size()) throw std::logic_error("inertial batch: filter and keyframe times differ");

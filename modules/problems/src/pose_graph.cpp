@@ -13,9 +13,6 @@ namespace swba::problems
 {
 namespace
 {
-using io::G2oId;
-using io::PoseGraph;
-
 void to_storage(const io::PoseGraphVertex3& v, double* x)
 {
 	auto T = se3_view(x);
@@ -32,7 +29,7 @@ void add_edge_factor(const std::shared_ptr<Factor>& f, const Edge& e, const Pose
 	out.problem.add_factor(f, {out.variable_of.at(e.from), out.variable_of.at(e.to)}, opt.loss);
 }
 
-void add_vertices_and_edges(const PoseGraph& g, const PoseGraphProblemOptions& opt, PoseGraphProblem& out)
+void add_vertices_and_edges(const io::PoseGraph& g, const PoseGraphProblemOptions& opt, PoseGraphProblem& out)
 {
 	Problem& P = out.problem;
 	const auto se3 = SE3Manifold::instance();
@@ -54,11 +51,11 @@ void add_vertices_and_edges(const PoseGraph& g, const PoseGraphProblemOptions& o
 }
 
 /** FIX vertices constant; without FIX lines, the lowest-id vertex held by the requested gauge. */
-void remove_gauge(const PoseGraph& g, const PoseGraphProblemOptions& opt, PoseGraphProblem& out)
+void remove_gauge(const io::PoseGraph& g, const PoseGraphProblemOptions& opt, PoseGraphProblem& out)
 {
 	Problem& P = out.problem;
-	for (G2oId id : g.fixed) P.set_constant(out.variable_of.at(id));
-	const G2oId first = out.variable_of.begin()->first;
+	for (io::G2oId id : g.fixed) P.set_constant(out.variable_of.at(id));
+	const io::G2oId first = out.variable_of.begin()->first;
 	if (!g.fixed.empty()) return;
 	if (opt.gauge == PoseGraphGauge::Fixed)
 		P.set_constant(out.variable_of.at(first));
@@ -88,7 +85,7 @@ std::string to_string(PoseGraphGauge gauge) { return enum_name(gauge); }
 
 RotationError parse_rotation_error(const std::string& name) { return parse_enum<RotationError>(name, "rotation error"); }
 
-PoseGraphProblem build_pose_graph_problem(const PoseGraph& g, const PoseGraphProblemOptions& opt)
+PoseGraphProblem build_pose_graph_problem(const io::PoseGraph& g, const PoseGraphProblemOptions& opt)
 {
 	if (g.num_vertices() == 0) throw std::invalid_argument("pose graph has no vertices");
 	if (!(opt.prior_sigma > 0)) throw std::invalid_argument("prior_sigma must be > 0");
@@ -99,7 +96,7 @@ PoseGraphProblem build_pose_graph_problem(const PoseGraph& g, const PoseGraphPro
 	return out;
 }
 
-void update_pose_graph(PoseGraph& g, const PoseGraphProblem& pp)
+void update_pose_graph(io::PoseGraph& g, const PoseGraphProblem& pp)
 {
 	for (auto& [id, v] : g.vertices3)
 	{
@@ -116,7 +113,7 @@ void update_pose_graph(PoseGraph& g, const PoseGraphProblem& pp)
 	}
 }
 
-double pose_graph_cost(const PoseGraph& g, RotationError rotation_error)
+double pose_graph_cost(const io::PoseGraph& g, RotationError rotation_error)
 {
 	double cost = 0;
 	for (const auto& e : g.edges3)

@@ -92,11 +92,7 @@ struct Rows
 void add_row(Rows& r, const std::string& name, const std::string& label, int window, const std::string& trajectory,
 			 const estimators::InertialTrajectory& est, double seconds, std::size_t steps, const eval::Trajectory& gt)
 {
-	RunRow row;
-	row.name = name;
-	row.label = label;
-	row.window = window;
-	row.trajectory = trajectory;
+	RunRow row(name, label, trajectory, window);
 	row.estimate = to_trajectory(est);
 	row.seconds = seconds;
 	row.steps = steps;

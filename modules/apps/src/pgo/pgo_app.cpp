@@ -34,13 +34,6 @@ problems::PoseGraphProblemOptions PgoAppOptions::problem_options() const
 	return o;
 }
 
-io::G2oReadOptions PgoAppOptions::read_options() const
-{
-	io::G2oReadOptions o;
-	o.information = information;
-	return o;
-}
-
 problems::PoseGraphInitSummary initialize_pgo(io::PoseGraph& graph, const PgoAppOptions& options)
 {
 	return problems::initialize_pose_graph(graph, options.init_options());
@@ -61,11 +54,11 @@ Summary solve_pgo(problems::PoseGraphProblem& problem, io::PoseGraph& graph, con
 PgoAppResult run_pgo_app(const PgoAppOptions& options, std::ostream& out, std::ostream& log)
 {
 	options.validate();
-	const io::G2oReadOptions read = options.read_options();
+	const io::G2oReadOptions& read = options.read;
 	io::PoseGraph graph = io::read_g2o(options.input_path, read);
 	if (const auto skipped = graph.skipped_summary(); !skipped.empty()) log << "swba pgo: warning: " << skipped << "\n";
 	PgoAppResult result;
-	const bool repair = options.information == io::InformationPolicy::Repair;
+	const bool repair = read.information == io::InformationPolicy::Repair;
 	result.repaired_information = graph.repaired_information.count;
 	// Repairing changes the problem: always said (count 0 included), never silent.
 	if (repair)

@@ -1,4 +1,5 @@
 // swba run: the comparison table, ape.txt / ape.csv / summary.json, TUM files and plots.
+#include "../json_values.h"
 #include "../report_helpers.h"
 #include "covariance_files.h"
 #include "output_dir.h"
@@ -174,9 +175,6 @@ std::string format_ape_csv(const RunReport& report)
 namespace
 {
 using nlohmann::ordered_json;
-
-/** A string, or null when it is empty (a field that does not apply to the row). */
-ordered_json string_or_null(const std::string& s) { return s.empty() ? ordered_json(nullptr) : ordered_json(s); }
 
 /** A JSON number, or null when `v` is not finite: JSON has no NaN / infinity (nlohmann would dump such a
  * double as null too; this states the contract instead of relying on it). */

@@ -11,6 +11,7 @@
 #include <optional>
 #include <ostream>
 #include <stdexcept>
+#include <utility>
 
 namespace swba::apps
 {
@@ -115,6 +116,11 @@ void mark_failed(RunRow& row, std::size_t step, const std::string& why)
 
 }  // namespace
 
+RunRow::RunRow(std::string name, std::string label, std::string trajectory, int window)
+	: name(std::move(name)), label(std::move(label)), window(window), trajectory(std::move(trajectory))
+{
+}
+
 void mark_interrupted(RunRow& row, std::size_t steps_done)
 {
 	row.failed = true;
@@ -152,11 +158,8 @@ void compute_row_ape(RunRow& row, const std::vector<mrpt::poses::CPose3D>& gt)
 
 RunRow run_ekf_row(const RowContext& ctx, const std::string& method, std::vector<std::string>& notes)
 {
-	RunRow row;
-	row.name = "ekf";
+	RunRow row("ekf", "ekf " + method, "online");
 	row.method = method;
-	row.label = "ekf " + method;
-	row.trajectory = "online";
 	estimators::EkfSlamOptions eo;
 	eo.method = method;
 	eo.ini_file = ctx.options.ekf_ini;
@@ -345,10 +348,7 @@ RunRow single_task_row(const RowContext& ctx, RunRow row, const std::string& ann
 
 RunRow named_row(const std::string& name, const std::string& label, const std::string& trajectory)
 {
-	RunRow row;
-	row.name = name;
-	row.label = label;
-	row.trajectory = trajectory;
+	RunRow row(name, label, trajectory);
 	row.file = name + ".tum";
 	return row;
 }

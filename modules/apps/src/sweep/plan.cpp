@@ -6,6 +6,7 @@
 #include <swba/eval/ground_truth.h>
 #include <swba/io/observation_rawlog.h>
 
+#include "../json_values.h"
 #include "summary_json.h"
 
 #include <nlohmann/json.hpp>
@@ -258,34 +259,27 @@ std::string format_sbatch_script(const SweepPlan& plan)
 
 std::string format_sweep_manifest(const SweepPlan& plan)
 {
-	ordered_json j;
-	j["kind"] = enum_name(plan.kind);
-	j["simulate_ini"] = plan.simulate_ini.empty() ? ordered_json(nullptr) : ordered_json(plan.simulate_ini);
-	j["windows"] = plan.windows;
-	j["threads"] = plan.threads;
-	j["groups"] = ordered_json::array();
+	ordered_json groups = ordered_json::array();
 	for (const auto& g : plan.groups)
-	{
-		ordered_json e;
-		e["name"] = g.name;
-		e["rawlog"] = g.rawlog.empty() ? ordered_json(nullptr) : ordered_json(g.rawlog);
-		e["ground_truth"] = g.ground_truth.empty() ? ordered_json(nullptr) : ordered_json(g.ground_truth);
-		e["seed"] = g.seed ? ordered_json(g.seed) : ordered_json(nullptr);
-		e["inertial"] = g.inertial;
-		e["jobs"] = g.jobs;
-		j["groups"].push_back(e);
-	}
-	j["jobs"] = ordered_json::array();
+		groups.push_back({{"name", g.name},
+						  {"rawlog", string_or_null(g.rawlog)},
+						  {"ground_truth", string_or_null(g.ground_truth)},
+						  {"seed", nonzero_or_null(g.seed)},
+						  {"inertial", g.inertial},
+						  {"jobs", g.jobs}});
+	ordered_json jobs = ordered_json::array();
 	for (const auto& job : plan.jobs)
-	{
-		ordered_json e;
-		e["id"] = job.id;
-		e["group"] = plan.groups[job.group].name;
-		e["window"] = job.window ? ordered_json(job.window) : ordered_json(nullptr);
-		e["dir"] = job.dir;
-		e["command"] = job.command;
-		j["jobs"].push_back(e);
-	}
+		jobs.push_back({{"id", job.id},
+						{"group", plan.groups[job.group].name},
+						{"window", nonzero_or_null(job.window)},
+						{"dir", job.dir},
+						{"command", job.command}});
+	const ordered_json j = {{"kind", enum_name(plan.kind)},
+							{"simulate_ini", string_or_null(plan.simulate_ini)},
+							{"windows", plan.windows},
+							{"threads", plan.threads},
+							{"groups", groups},
+							{"jobs", jobs}};
 	return j.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n";
 }
 

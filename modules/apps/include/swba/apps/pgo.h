@@ -21,9 +21,10 @@ struct PgoAppOptions
 {
 	std::string input_path;   ///< g2o file (required by run_pgo_app)
 	std::string output_path;  ///< optimised graph (empty: not written)
-	/** Edge informations that are not positive definite: Strict = an error (default), Repair = replaced
-	 * by the nearest positive-definite matrix, counted on `log` and in the report (swba/io/g2o.h). */
-	io::InformationPolicy information = io::InformationPolicy::Strict;
+	/** How the g2o file is read (swba/io/g2o.h). read.information, for edge informations that are not
+	 * positive definite: Strict = an error (default), Repair = replaced by the nearest positive-definite
+	 * matrix, counted on `log` and in the report. */
+	io::G2oReadOptions read;
 	/** Initial values. Default chordal rotations, then positions by linear least squares. */
 	problems::PoseGraphInit init = problems::PoseGraphInit::Chordal;
 	/** Chordal only: false = chordal rotations, positions composed along the odometry tree. Default true. */
@@ -45,7 +46,6 @@ struct PgoAppOptions
 	void validate() const;
 	problems::PoseGraphInitOptions init_options() const;
 	problems::PoseGraphProblemOptions problem_options() const;
-	io::G2oReadOptions read_options() const;
 };
 
 struct PgoAppResult

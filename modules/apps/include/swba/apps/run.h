@@ -34,6 +34,10 @@ namespace swba::apps
 /** One estimator's result: one row of the comparison table, one entry of summary.json. */
 struct RunRow
 {
+	RunRow() = default;
+	/** A row with only its identity set; the estimator fills in the rest (and names the file, if any). */
+	RunRow(std::string name, std::string label, std::string trajectory, int window = 0);
+
 	std::string name;        ///< "ekf", "window", "batch" or "causal"
 	std::string label;       ///< unique display name, e.g. "window W=10", "window W=10 slam nofej", "ekf kfEKFNaive"
 	int window = 0;          ///< W for window rows; 0 = none (null in JSON)
