@@ -4,7 +4,8 @@
 // two starts, as `swba run` picks it), APE translation rmse (not aligned) over the same steps. No
 // estimator that has seen the data up to k + L only, in this model with these options, is expected below
 // the lag optimum; the window's figure against the batch is bounded below by the lag optimum's
-// (doc/realdata.md, "Where the figures miss a target"). Default options are `swba run`'s.
+// (doc/realdata.md, "Before and after"; with a mis-declared noise: doc/benchmarks/realdata.md). Default
+// options are `swba run`'s.
 //   swba_window_lag_bound RAWLOG [W] [relinearized poses] [sensor std range (m)] [sensor std yaw (deg)]
 // O(steps²) (the full-history solve after every step): minutes on the real logs.
 #include <swba/apps/run_options.h>
