@@ -4,8 +4,9 @@
 // two starts, as `swba run` picks it), APE translation rmse (not aligned) over the same steps. No
 // estimator that has seen the data up to k + L only, in this model with these options, is expected below
 // the lag optimum; the window's figure against the batch is bounded below by the lag optimum's
-// (doc/realdata.md, "Where the figures miss a target"). Default options are `swba run`'s.
-//   swba_window_lag_bound RAWLOG [W] [relinearized poses]
+// (doc/realdata.md, "Before and after"; with a mis-declared noise: doc/benchmarks/realdata.md). Default
+// options are `swba run`'s.
+//   swba_window_lag_bound RAWLOG [W] [relinearized poses] [sensor std range (m)] [sensor std yaw (deg)]
 // O(steps²) (the full-history solve after every step): minutes on the real logs.
 #include <swba/apps/run_options.h>
 #include <swba/estimators/sliding_window.h>
@@ -79,7 +80,8 @@ try
 	if (argc < 2 || std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help")
 	{
 		std::fprintf(argc < 2 ? stderr : stdout,
-					 "usage: swba_window_lag_bound RAWLOG [W (30)] [relinearized poses (swba run's)]\n");
+					 "usage: swba_window_lag_bound RAWLOG [W (30)] [relinearized poses (swba run's)] [sensor std range (m)] "
+					 "[sensor std yaw (deg)] (0: the observation's own, as swba run's --sensor-std-*)\n");
 		return argc < 2 ? 2 : 0;
 	}
 	const std::string path = argv[1];
@@ -88,6 +90,8 @@ try
 	estimators::SlidingWindowOptions o = run.window;
 	o.window_size = W;
 	if (argc > 3) o.relinearized_poses = std::atoi(argv[3]);
+	if (argc > 4) o.sensor.std_range = std::atof(argv[4]);
+	if (argc > 5) o.sensor.std_yaw = std::atof(argv[5]) * M_PI / 180;
 	o.validate();
 	const io::Rawlog rawlog = io::read_rawlog(path);
 	const auto gt = eval::read_ground_truth_for(eval::default_ground_truth_path(path), rawlog.steps.size());
