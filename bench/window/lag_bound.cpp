@@ -19,6 +19,7 @@
 #include <cstdlib>
 #include <exception>
 #include <map>
+#include <stdexcept>
 #include <string>
 
 using namespace swba;
@@ -32,6 +33,25 @@ PoseByStamp by_stamp(const eval::Trajectory& t)
 	PoseByStamp m;
 	for (std::size_t i = 0; i < t.size(); i++) m[t.stamps[i]] = t.poses[i];
 	return m;
+}
+
+/** Command-line argument `s` as a finite number >= 0 (the whole text), or std::invalid_argument naming
+ * `what`: a typo must not silently become 0 (which means "the observation's own" for the sensor std). */
+double non_negative_arg(const char* s, const char* what)
+{
+	char* end = nullptr;
+	const double v = std::strtod(s, &end);
+	if (end == s || *end != '\0' || !std::isfinite(v) || v < 0)
+		throw std::invalid_argument(std::string(what) + " must be a number >= 0, got '" + s + "'");
+	return v;
+}
+
+/** Command-line argument `s` as a whole number >= 0, or std::invalid_argument naming `what`. */
+int count_arg(const char* s, const char* what)
+{
+	const double v = non_negative_arg(s, what);
+	if (v != std::floor(v) || v > 1e6) throw std::invalid_argument(std::string(what) + " must be a whole number, got '" + s + "'");
+	return static_cast<int>(v);
 }
 
 /** APE translation rmse of `of` at the stamps of `at` (each must be in `of`). */
@@ -85,13 +105,14 @@ try
 		return argc < 2 ? 2 : 0;
 	}
 	const std::string path = argv[1];
-	const int W = argc > 2 ? std::atoi(argv[2]) : 30;
+	const int W = argc > 2 ? count_arg(argv[2], "W") : 30;
 	apps::RunOptions run;
 	estimators::SlidingWindowOptions o = run.window;
 	o.window_size = W;
-	if (argc > 3) o.relinearized_poses = std::atoi(argv[3]);
-	if (argc > 4) o.sensor.std_range = std::atof(argv[4]);
-	if (argc > 5) o.sensor.std_yaw = std::atof(argv[5]) * M_PI / 180;
+	if (argc > 3) o.relinearized_poses = count_arg(argv[3], "relinearized poses");
+	if (argc > 4) o.sensor.std_range = non_negative_arg(argv[4], "sensor std range");
+	if (argc > 5) o.sensor.std_yaw = non_negative_arg(argv[5], "sensor std yaw") * M_PI / 180;
+	if (argc > 6) throw std::invalid_argument("too many arguments (see --help)");
 	o.validate();
 	const io::Rawlog rawlog = io::read_rawlog(path);
 	const auto gt = eval::read_ground_truth_for(eval::default_ground_truth_path(path), rawlog.steps.size());
