@@ -50,7 +50,8 @@ double non_negative_arg(const char* s, const char* what)
 int count_arg(const char* s, const char* what)
 {
 	const double v = non_negative_arg(s, what);
-	if (v != std::floor(v) || v > 1e6) throw std::invalid_argument(std::string(what) + " must be a whole number, got '" + s + "'");
+	if (v != std::floor(v) || v > 1e6)
+		throw std::invalid_argument(std::string(what) + " must be a whole number, got '" + s + "'");
 	return static_cast<int>(v);
 }
 
