@@ -86,10 +86,16 @@ foreach(r 1 2 3 4 5)
             -P ${_golden}/realdata_bounds.cmake)
   set_tests_properties(realdata.bounds_r${r} PROPERTIES FIXTURES_REQUIRED ${_name})
 endforeach()
-# Two of them without landmark IDs (r1, r5): data association, measured against the log with IDs (r5
-# without the batch, which adds nothing to the association figures and doubles the time).
+# All five without landmark IDs: data association, measured against the log with IDs (r2-r5 without
+# the batch, which adds nothing to the association figures and doubles the time; doc/realdata.md's table).
 swba_golden(run_mrclam6_r1_noids run ${_data}/mrclam/mrclam6_r1_noids.rawlog --association-truth
   ${_data}/mrclam/mrclam6_r1.rawlog --windows 30 --no-plots --no-progress --out <work>/out)
+swba_golden(run_mrclam6_r2_noids run ${_data}/mrclam/mrclam6_r2_noids.rawlog --association-truth
+  ${_data}/mrclam/mrclam6_r2.rawlog --windows 30 --no-batch --no-plots --no-progress --out <work>/out)
+swba_golden(run_mrclam6_r3_noids run ${_data}/mrclam/mrclam6_r3_noids.rawlog --association-truth
+  ${_data}/mrclam/mrclam6_r3.rawlog --windows 30 --no-batch --no-plots --no-progress --out <work>/out)
+swba_golden(run_mrclam6_r4_noids run ${_data}/mrclam/mrclam6_r4_noids.rawlog --association-truth
+  ${_data}/mrclam/mrclam6_r4.rawlog --windows 30 --no-batch --no-plots --no-progress --out <work>/out)
 swba_golden(run_mrclam6_r5_noids run ${_data}/mrclam/mrclam6_r5_noids.rawlog --association-truth
   ${_data}/mrclam/mrclam6_r5.rawlog --windows 30 --no-batch --no-plots --no-progress --out <work>/out)
 # The bound check itself must fail on a row over its bound.
