@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
 #include <swba/linear/block_cholesky.h>
+#include <swba/linear/selected_inverse.h>
 
 #include <Eigen/Dense>
 #include <random>
+#include <stdexcept>
 
 using namespace swba;
 
@@ -100,4 +102,61 @@ TEST(BlockCholesky, ReportsNotPositiveDefinite)
 	for (const auto& b : s.blocks) blocks.push_back(b.data());
 	EXPECT_FALSE(BlockCholesky::dense(s.pattern)->factorize(blocks));
 	EXPECT_FALSE(BlockCholesky::sparse(s.pattern)->factorize(blocks));
+}
+
+TEST(BlockCholesky, SelectedInverseEqualsTheDenseInverseOnTheFactorsPattern)
+{
+	const auto s = make_system(40, 3);
+	std::vector<const double*> blocks;
+	for (const auto& b : s.blocks) blocks.push_back(b.data());
+	auto dense = BlockCholesky::dense(s.pattern);
+	ASSERT_TRUE(dense->factorize(blocks));
+	EXPECT_EQ(dense->selected_inverse(), nullptr);
+	auto chol = BlockCholesky::sparse(s.pattern);
+	ASSERT_TRUE(chol->factorize(blocks));
+	const auto inverse = chol->selected_inverse();
+	ASSERT_NE(inverse, nullptr);
+	ASSERT_EQ(inverse->dim(), s.A.rows());
+	const Eigen::MatrixXd want = s.A.inverse();
+	// Every entry of every block of A is in the pattern (CHOLMOD permutes the rows: the map back is tested too).
+	const auto off = s.pattern.offsets();
+	for (auto [i, j] : s.pattern.upper_blocks)
+		for (int r = off[i]; r < off[i + 1]; r++)
+			for (int c = off[j]; c < off[j + 1]; c++)
+			{
+				double v = 0, w = 0;
+				ASSERT_TRUE(inverse->find(r, c, v)) << r << ", " << c;
+				ASSERT_TRUE(inverse->find(c, r, w));
+				EXPECT_NEAR(v, want(r, c), 1e-12 * want.norm()) << r << ", " << c;
+				EXPECT_EQ(v, w);
+			}
+	double v = 0;
+	EXPECT_FALSE(inverse->find(-1, 0, v));
+	EXPECT_FALSE(inverse->find(0, static_cast<int>(s.A.rows()), v));
+}
+
+TEST(SelectedInverse, RejectsAPatternThatIsNotACholeskyFactors)
+{
+	// 3×3, L = [2 0 0; 1 2 0; 1 0 2]: column 0 holds rows 1 and 2, so (2, 1) is fill and must be stored.
+	const int begin[] = {0, 3, 4, 5};
+	const int rows[] = {0, 1, 2, 1, 2};
+	const double values[] = {2, 1, 1, 2, 2};
+	EXPECT_THROW(SelectedInverse(3, begin, rows, values, nullptr), std::invalid_argument);
+	const int unsorted[] = {0, 2, 1, 1, 2};
+	const int begin_filled[] = {0, 3, 5, 6};
+	const int rows_filled[] = {0, 1, 2, 1, 2, 2};
+	const double values_filled[] = {2, 1, 1, 2, 0, 2};
+	EXPECT_THROW(SelectedInverse(3, begin, unsorted, values, nullptr), std::invalid_argument);
+	// With the fill entry stored (as a zero), the inverse of L Lᵀ on the pattern.
+	const SelectedInverse z(3, begin_filled, rows_filled, values_filled, nullptr);
+	Eigen::Matrix3d L;
+	L << 2, 0, 0, 1, 2, 0, 1, 0, 2;
+	const Eigen::Matrix3d want = (L * L.transpose()).inverse();
+	for (int r = 0; r < 3; r++)
+		for (int c = 0; c < 3; c++)
+		{
+			double v = 0;
+			ASSERT_TRUE(z.find(r, c, v));
+			EXPECT_NEAR(v, want(r, c), 1e-14);
+		}
 }

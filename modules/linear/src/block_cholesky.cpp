@@ -72,10 +72,18 @@ class DenseBlockCholesky final : public PatternedCholesky
 		llt_.solveInPlace(X);
 	}
 	bool is_sparse() const override { return false; }
+	std::unique_ptr<SelectedInverse> selected_inverse() const override { return nullptr; }
 
    private:
 	Eigen::MatrixXd A_;
 	Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt_;
+};
+
+/** Eigen's supernodal CHOLMOD solver with its factor readable (Eigen keeps it protected). */
+class SupernodalLLT : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>
+{
+   public:
+	const cholmod_factor* factor() const { return m_cholmodFactor; }
 };
 
 class SparseBlockCholesky final : public PatternedCholesky
@@ -133,11 +141,24 @@ class SparseBlockCholesky final : public PatternedCholesky
 		M = X;
 	}
 	bool is_sparse() const override { return true; }
+	std::unique_ptr<SelectedInverse> selected_inverse() const override
+	{
+		// A simplicial LLᵀ copy of the supernodal factor: compressed columns, rows sorted, diagonal first.
+		cholmod_common& cm = solver_.cholmod();
+		auto free_factor = [&cm](cholmod_factor* f) { cholmod_free_factor(&f, &cm); };
+		std::unique_ptr<cholmod_factor, decltype(free_factor)> L(
+			cholmod_copy_factor(const_cast<cholmod_factor*>(solver_.factor()), &cm), free_factor);
+		if (!L || !cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, L.get(), &cm))
+			throw std::runtime_error("CHOLMOD: the factor could not be converted to simplicial form");
+		return std::make_unique<SelectedInverse>(static_cast<int>(L->n), static_cast<const int*>(L->p),
+												 static_cast<const int*>(L->i), static_cast<const double*>(L->x),
+												 static_cast<const int*>(L->Perm));
+	}
 
    private:
 	Eigen::SparseMatrix<double> A_;
 	std::vector<int> value_index_;
-	mutable Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> solver_;
+	mutable SupernodalLLT solver_;
 };
 }  // namespace
 

@@ -1,5 +1,5 @@
 // Marginal covariances from the solver's factorisation: the undamped Schur system factorised once,
-// then one solve per tangent coordinate of a requested variable (covariance.h).
+// then the blocks read from its selected inverse or one solve per tangent coordinate (covariance.h).
 #include <swba/core/timing.h>
 #include <swba/core/validation.h>
 #include <swba/nonlinear/covariance.h>
@@ -8,6 +8,8 @@
 #include "solver_context.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <memory>
 #include <numeric>
 #include <stdexcept>
 
@@ -50,16 +52,19 @@ class Recovery
 		if (!request_.gauge.empty()) gauge_solves(out);
 		std::vector<Group> groups;
 		for (const auto& g : request_.groups) groups.push_back(layout(g));
-		// Solve the columns of several groups at once (one pass through the factor per chunk).
-		std::size_t first = 0;
+		// The groups the selected inverse cannot serve: solve their columns, several groups at once
+		// (one pass through the factor per chunk).
+		std::vector<std::size_t> pending = from_selected_inverse(groups);
+		std::vector<std::size_t> chunk;
 		int columns = 0;
-		for (std::size_t g = 0; g < groups.size(); g++)
+		for (std::size_t k = 0; k < pending.size(); k++)
 		{
-			columns += groups[g].free_columns;
-			if (columns >= kColumnsPerChunk || g + 1 == groups.size())
+			chunk.push_back(pending[k]);
+			columns += groups[pending[k]].free_columns;
+			if (columns >= kColumnsPerChunk || k + 1 == pending.size())
 			{
-				solve_chunk(groups, first, g + 1, columns, out);
-				first = g + 1;
+				solve_chunk(groups, chunk, columns, out);
+				chunk.clear();
 				columns = 0;
 			}
 		}
@@ -116,16 +121,65 @@ class Recovery
 		return g;
 	}
 
-	/** Solves the unit columns of the non-constant variables of groups [first, last) and fills their
+	/** Fills the groups over kept variables only from S⁻¹ on the factor's pattern, when they ask for
+	 * more columns than one chunk of solves would give (below that the solves are cheaper than the
+	 * pass over the whole factor); returns the indices of the groups left to solve. */
+	std::vector<std::size_t> from_selected_inverse(std::vector<Group>& groups) const
+	{
+		int kept_columns = 0;
+		for (const Group& g : groups)
+			if (only_kept(g)) kept_columns += g.free_columns;
+		std::unique_ptr<SelectedInverse> inverse;
+		if (kept_columns > kColumnsPerChunk)
+		{
+			try
+			{
+				inverse = ctx_.eliminator().selected_inverse();
+			}
+			catch (const std::invalid_argument&)
+			{
+				inverse.reset();  // not a factor's pattern after all: the solves still are exact
+			}
+		}
+		std::vector<std::size_t> pending;
+		for (std::size_t g = 0; g < groups.size(); g++)
+			if (!inverse || !only_kept(groups[g]) || !fill_from(*inverse, groups[g])) pending.push_back(g);
+		return pending;
+	}
+
+	static bool only_kept(const Group& g)
+	{
+		return std::all_of(g.slots.begin(), g.slots.end(), [](const Slot& s) { return s.elim < 0; });
+	}
+
+	/** The group's block from the selected inverse; false (block untouched) if an entry is outside the
+	 * factor's pattern (variables that share no factor). */
+	static bool fill_from(const SelectedInverse& inverse, Group& g)
+	{
+		Eigen::MatrixXd S = Eigen::MatrixXd::Zero(g.S.rows(), g.S.cols());
+		for (std::size_t r = 0; r < g.slots.size(); r++)
+			for (std::size_t c = 0; c < g.slots.size(); c++)
+			{
+				const Slot &a = g.slots[r], &b = g.slots[c];
+				if (a.offset < 0 || b.offset < 0) continue;
+				for (int i = 0; i < a.tangent; i++)
+					for (int j = 0; j < b.tangent; j++)
+						if (!inverse.find(a.offset + i, b.offset + j, S(g.at[r] + i, g.at[c] + j))) return false;
+			}
+		g.S = S;
+		return true;
+	}
+
+	/** Solves the unit columns of the non-constant variables of the groups `chunk` and fills their
 	 * blocks: column j of Σ restricted to each group's rows. */
-	void solve_chunk(std::vector<Group>& groups, std::size_t first, std::size_t last, int columns,
+	void solve_chunk(std::vector<Group>& groups, const std::vector<std::size_t>& chunk, int columns,
 					 CovarianceResult& out)
 	{
 		if (columns == 0) return;
 		Eigen::MatrixXd X = Eigen::MatrixXd::Zero(dim_, columns);
 		std::vector<char> back(static_cast<std::size_t>(ctx_.program().num_elim()), 0);
 		int c = 0;
-		for (std::size_t g = first; g < last; g++)
+		for (std::size_t g : chunk)
 			for (const Slot& s : groups[g].slots)
 			{
 				if (s.elim >= 0) back[static_cast<std::size_t>(s.elim)] = 1;
@@ -135,7 +189,7 @@ class Recovery
 		ctx_.eliminator().solve_factorized(X, back);
 		out.solves += columns;
 		c = 0;
-		for (std::size_t g = first; g < last; g++)
+		for (std::size_t g : chunk)
 		{
 			Group& G = groups[g];
 			for (std::size_t i = 0; i < G.slots.size(); i++)

@@ -204,6 +204,11 @@ double SchurEliminator::reduced_block_fill() const
 	return n > 0 ? static_cast<double>(s_pattern_.upper_blocks.size()) / (n * (n + 1) / 2) : 1.0;
 }
 
+std::unique_ptr<SelectedInverse> SchurEliminator::selected_inverse() const
+{
+	return cholesky_ ? cholesky_->selected_inverse() : nullptr;
+}
+
 void SchurEliminator::ensure_cholesky()
 {
 	if (!cholesky_ && program_.kept_dim() > 0)

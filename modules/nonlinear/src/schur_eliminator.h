@@ -37,6 +37,9 @@ class SchurEliminator
 	 * reusing the factorisation, one pass through the factor for all columns. Only the eliminated
 	 * variables with `back[l]` set are back-substituted (the others are left at zero); `back` empty: all. */
 	void solve_factorized(Eigen::MatrixXd& X, const std::vector<char>& back = {}) const;
+	/** After a successful solve_damped: S⁻¹, the covariance of the kept variables, on the pattern of its
+	 * sparse factor; nullptr from the dense back end (BlockCholesky::selected_inverse). */
+	std::unique_ptr<SelectedInverse> selected_inverse() const;
 
    private:
 	void build_reduced_pattern();

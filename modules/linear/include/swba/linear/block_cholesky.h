@@ -6,6 +6,8 @@
  * CHOLMOD types never appear in this header. */
 #pragma once
 
+#include <swba/linear/selected_inverse.h>
+
 #include <memory>
 #include <utility>
 #include <vector>
@@ -35,6 +37,10 @@ class BlockCholesky
 	 * dim() rows): one pass through the factor for all of them (CHOLMOD's supernodal solve of a block). */
 	virtual void solve_columns(double* B_inout, int ncols) const = 0;
 	virtual bool is_sparse() const = 0;
+	/** After a successful factorize: A⁻¹ on the pattern of the sparse factor (selected_inverse.h), in
+	 * one pass instead of one solve per wanted column. nullptr from the dense back end, whose factor
+	 * has no sparsity to exploit (solve_columns is then the way). */
+	virtual std::unique_ptr<SelectedInverse> selected_inverse() const = 0;
 
 	/** Dense LLT of the assembled matrix. */
 	static std::unique_ptr<BlockCholesky> dense(const BlockPattern& pattern);

@@ -4,10 +4,12 @@
  * variables' tangent coordinates (a pose: right perturbation T = T̂·Exp(δ), δ = [ρ, ω]).
  *
  * Only the requested blocks are recovered, from the factorisation the solver uses (Schur complement
- * of the eliminated group, reduced system by dense LLT or CHOLMOD): one solve against the factor per
- * tangent coordinate of a requested variable, then the back-substitution of the eliminated variables
- * a group asks for. Never a dense inverse of the whole system: a block of m coordinates costs m
- * triangular solves (n² each for a dense reduced system of size n, nnz(L) for CHOLMOD's).
+ * of the eliminated group, reduced system by dense LLT or CHOLMOD). Groups of kept variables, when
+ * they ask for more than a few dozen coordinates and CHOLMOD holds the factor, are read from the
+ * inverse on the factor's pattern (selected_inverse.h: one pass, about Σ_j |L_*j|²); the others cost
+ * one solve against the factor per tangent coordinate (n² for a dense reduced system of size n, nnz(L)
+ * for CHOLMOD's), then the back-substitution of the eliminated variables they ask for. Never a dense
+ * inverse of the whole system.
  *
  * Constant variables have zero covariance (the gauge they fix: with the first pose constant every
  * covariance is relative to it). A problem whose H is singular (a free gauge) has none: hold a
@@ -52,7 +54,7 @@ struct CovarianceResult
 	std::string message;
 	std::vector<Eigen::MatrixXd> blocks;     ///< per group
 	std::vector<Eigen::MatrixXd> functions;  ///< per function
-	int solves = 0;                       ///< solves against the factor
+	int solves = 0;                       ///< solves against the factor (none for blocks read from the selected inverse)
 	double seconds = 0;                   ///< factorisation + solves (+ linearisation for marginal_covariance)
 };
 
