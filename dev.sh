@@ -60,7 +60,7 @@ fuzz_smoke() {
 # ASan reserves terabytes of address space, so read_rawlog's memory budget (an RLIMIT_AS cap) cannot be
 # tested in build-asan/, where those tests skip themselves; they run here, in the Release build.
 test_budget() {
-	build build --target swba_test_core --target swba_test_io
+	build build --target swba_test_core_budget --target swba_test_io_budget
 	ctest --test-dir build --output-on-failure -j "$jobs" -R 'MemoryBudget'
 }
 stage() {  # stage <name> <function> [args...]: runs it and prints its wall time

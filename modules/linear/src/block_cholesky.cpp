@@ -72,12 +72,17 @@ class DenseBlockCholesky final : public PatternedCholesky
 		llt_.solveInPlace(X);
 	}
 	bool is_sparse() const override { return false; }
-	std::unique_ptr<SelectedInverse> selected_inverse() const override { return nullptr; }
+	std::unique_ptr<SelectedInverse> selected_inverse(int) const override { return nullptr; }
 
    private:
 	Eigen::MatrixXd A_;
 	Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt_;
 };
+
+/** Time of one multiply-add of the selected inverse's scalar recurrence in units of one of the
+ * supernodal solves' (BLAS) multiply-adds: measured ≈ 3 on a near-dense reduced system of 3594 unknowns
+ * (1.14 s against 2.2 s for the solves of every column, 2026-11-29, doc/benchmarks/run.md). */
+constexpr double kTakahashiOpCost = 3.0;
 
 /** Eigen's supernodal CHOLMOD solver with its factor readable (Eigen keeps it protected). */
 class SupernodalLLT : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>
@@ -141,7 +146,7 @@ class SparseBlockCholesky final : public PatternedCholesky
 		M = X;
 	}
 	bool is_sparse() const override { return true; }
-	std::unique_ptr<SelectedInverse> selected_inverse() const override
+	std::unique_ptr<SelectedInverse> selected_inverse(int columns) const override
 	{
 		// A simplicial LLᵀ copy of the supernodal factor: compressed columns, rows sorted, diagonal first.
 		cholmod_common& cm = solver_.cholmod();
@@ -150,6 +155,10 @@ class SparseBlockCholesky final : public PatternedCholesky
 			cholmod_copy_factor(const_cast<cholmod_factor*>(solver_.factor()), &cm), free_factor);
 		if (!L || !cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, L.get(), &cm))
 			throw std::runtime_error("CHOLMOD: the factor could not be converted to simplicial form");
+		const int n = static_cast<int>(L->n);
+		const int* p = static_cast<const int*>(L->p);
+		const double solve_work = 2.0 * columns * p[n];
+		if (kTakahashiOpCost * SelectedInverse::work(n, p, static_cast<const int*>(L->i)) > solve_work) return nullptr;
 		return std::make_unique<SelectedInverse>(static_cast<int>(L->n), static_cast<const int*>(L->p),
 												 static_cast<const int*>(L->i), static_cast<const double*>(L->x),
 												 static_cast<const int*>(L->Perm));

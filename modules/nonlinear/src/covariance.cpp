@@ -122,8 +122,8 @@ class Recovery
 	}
 
 	/** Fills the groups over kept variables only from S⁻¹ on the factor's pattern, when they ask for
-	 * more columns than one chunk of solves would give (below that the solves are cheaper than the
-	 * pass over the whole factor); returns the indices of the groups left to solve. */
+	 * more columns than one chunk of solves and the pass over the factor is estimated cheaper than
+	 * their solves; returns the indices of the groups left to solve. */
 	std::vector<std::size_t> from_selected_inverse(std::vector<Group>& groups) const
 	{
 		int kept_columns = 0;
@@ -134,7 +134,7 @@ class Recovery
 		{
 			try
 			{
-				inverse = ctx_.eliminator().selected_inverse();
+				inverse = ctx_.eliminator().selected_inverse(kept_columns);
 			}
 			catch (const std::invalid_argument&)
 			{

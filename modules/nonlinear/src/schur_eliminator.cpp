@@ -204,9 +204,9 @@ double SchurEliminator::reduced_block_fill() const
 	return n > 0 ? static_cast<double>(s_pattern_.upper_blocks.size()) / (n * (n + 1) / 2) : 1.0;
 }
 
-std::unique_ptr<SelectedInverse> SchurEliminator::selected_inverse() const
+std::unique_ptr<SelectedInverse> SchurEliminator::selected_inverse(int columns) const
 {
-	return cholesky_ ? cholesky_->selected_inverse() : nullptr;
+	return cholesky_ ? cholesky_->selected_inverse(columns) : nullptr;
 }
 
 void SchurEliminator::ensure_cholesky()

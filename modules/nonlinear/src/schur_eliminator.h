@@ -38,8 +38,8 @@ class SchurEliminator
 	 * variables with `back[l]` set are back-substituted (the others are left at zero); `back` empty: all. */
 	void solve_factorized(Eigen::MatrixXd& X, const std::vector<char>& back = {}) const;
 	/** After a successful solve_damped: S⁻¹, the covariance of the kept variables, on the pattern of its
-	 * sparse factor; nullptr from the dense back end (BlockCholesky::selected_inverse). */
-	std::unique_ptr<SelectedInverse> selected_inverse() const;
+	 * sparse factor; nullptr when solving `columns` columns is cheaper (BlockCholesky::selected_inverse). */
+	std::unique_ptr<SelectedInverse> selected_inverse(int columns) const;
 
    private:
 	void build_reduced_pattern();

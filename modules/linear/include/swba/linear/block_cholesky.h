@@ -38,9 +38,9 @@ class BlockCholesky
 	virtual void solve_columns(double* B_inout, int ncols) const = 0;
 	virtual bool is_sparse() const = 0;
 	/** After a successful factorize: A⁻¹ on the pattern of the sparse factor (selected_inverse.h), in
-	 * one pass instead of one solve per wanted column. nullptr from the dense back end, whose factor
-	 * has no sparsity to exploit (solve_columns is then the way). */
-	virtual std::unique_ptr<SelectedInverse> selected_inverse() const = 0;
+	 * one pass instead of one solve per wanted column; nullptr when solving `columns` columns is the
+	 * cheaper way (few columns, a dense factor), and always from the dense back end. */
+	virtual std::unique_ptr<SelectedInverse> selected_inverse(int columns) const = 0;
 
 	/** Dense LLT of the assembled matrix. */
 	static std::unique_ptr<BlockCholesky> dense(const BlockPattern& pattern);
