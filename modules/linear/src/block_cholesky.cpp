@@ -80,8 +80,8 @@ class DenseBlockCholesky final : public PatternedCholesky
 };
 
 /** Time of one multiply-add of the selected inverse's scalar recurrence in units of one of the
- * supernodal solves' (BLAS) multiply-adds: measured ≈ 3 on a near-dense reduced system of 3594 unknowns
- * (1.14 s against 2.2 s for the solves of every column, 2026-11-29, doc/benchmarks/run.md). */
+ * supernodal solves' (BLAS) multiply-adds: ≈ 3 from the timings on a near-dense reduced system of 3594
+ * unknowns (1.14 s against 2.2 s for the solves of every column; doc/benchmarks/run.md). */
 constexpr double kTakahashiOpCost = 3.0;
 
 /** Eigen's supernodal CHOLMOD solver with its factor readable (Eigen keeps it protected). */
@@ -154,7 +154,7 @@ class SparseBlockCholesky final : public PatternedCholesky
 		std::unique_ptr<cholmod_factor, decltype(free_factor)> L(
 			cholmod_copy_factor(const_cast<cholmod_factor*>(solver_.factor()), &cm), free_factor);
 		if (!L || !cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, L.get(), &cm))
-			throw std::runtime_error("CHOLMOD: the factor could not be converted to simplicial form");
+			return nullptr;  // out of memory for the copy: the solves need none
 		const int n = static_cast<int>(L->n);
 		const int* p = static_cast<const int*>(L->p);
 		const double solve_work = 2.0 * columns * p[n];
