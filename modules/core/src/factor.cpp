@@ -1,4 +1,5 @@
 #include <swba/core/factor.h>
+#include <swba/core/scratch.h>
 
 #include <Eigen/Cholesky>
 #include <stdexcept>
@@ -62,15 +63,8 @@ bool Factor::evaluate_whitened(const double* const* x, double* residual, double*
 			y[i * stride] = acc;
 		}
 	};
-	constexpr int kStackDim = 32;
-	double stack_tmp[kStackDim];
-	std::vector<double> heap_tmp;
-	double* tmp = stack_tmp;
-	if (m > kStackDim)
-	{
-		heap_tmp.resize(m);
-		tmp = heap_tmp.data();
-	}
+	Scratch<double, 32> scratch(static_cast<std::size_t>(m));
+	double* tmp = scratch.data();
 	whiten(residual, 1, tmp);
 	if (jacobians)
 	{

@@ -1,6 +1,6 @@
 #include <swba/factors/first_estimate.h>
 
-#include <vector>
+#include <swba/core/scratch.h>
 
 namespace swba
 {
@@ -17,18 +17,10 @@ FirstEstimateFactor::FirstEstimateFactor(std::shared_ptr<const Factor> inner, st
 bool FirstEstimateFactor::evaluate(const double* const* x, double* residual, double* const* jacobians) const
 {
 	if (!jacobians) return inner_->evaluate(x, residual, nullptr);
-	// Called for every factor in every LM iteration: no heap allocation for the usual sizes
-	// (≤ 8 variables, residual ≤ 16), a heap fallback beyond.
-	constexpr int kStackVariables = 8, kStackResidual = 16;
+	// Called for every factor in every LM iteration: no heap allocation for the usual sizes.
 	const int k = num_variables();
-	const double* xf_stack[kStackVariables];
-	std::vector<const double*> xf_heap;
-	const double** xf = xf_stack;
-	if (k > kStackVariables)
-	{
-		xf_heap.resize(k);
-		xf = xf_heap.data();
-	}
+	Scratch<const double*, 8> first(static_cast<std::size_t>(k));
+	const double** xf = first.data();
 	bool any = false;
 	for (int i = 0; i < k; i++)
 	{
@@ -39,14 +31,7 @@ bool FirstEstimateFactor::evaluate(const double* const* x, double* residual, dou
 	if (!any) return inner_->evaluate(x, residual, jacobians);
 	if (!inner_->evaluate(x, residual, nullptr)) return false;
 	// Residual at the current values (above); Jacobians at the first estimates, residual discarded.
-	double scratch_stack[kStackResidual];
-	std::vector<double> scratch_heap;
-	double* scratch = scratch_stack;
-	if (residual_dim() > kStackResidual)
-	{
-		scratch_heap.resize(residual_dim());
-		scratch = scratch_heap.data();
-	}
-	return inner_->evaluate(xf, scratch, jacobians);
+	Scratch<double, 16> discarded(static_cast<std::size_t>(residual_dim()));
+	return inner_->evaluate(xf, discarded.data(), jacobians);
 }
 }  // namespace swba

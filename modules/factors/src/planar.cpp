@@ -1,6 +1,9 @@
 #include <swba/factors/planar.h>
 
+#include <swba/core/scratch.h>
+
 #include <Eigen/Core>
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -44,16 +47,18 @@ SubspaceManifold::SubspaceManifold(std::shared_ptr<const Manifold> base, std::ve
 
 void SubspaceManifold::plus(const double* x, const double* delta, double* x_plus) const
 {
-	Eigen::VectorXd full = Eigen::VectorXd::Zero(base_->tangent_size());
-	for (std::size_t i = 0; i < coords_.size(); i++) full[coords_[i]] = delta[i];
+	const std::size_t n = static_cast<std::size_t>(base_->tangent_size());
+	Scratch<double, 16> full(n);
+	std::fill_n(full.data(), n, 0.0);
+	for (std::size_t i = 0; i < coords_.size(); i++) full.data()[coords_[i]] = delta[i];
 	base_->plus(x, full.data(), x_plus);
 }
 
 void SubspaceManifold::minus(const double* y, const double* x, double* delta) const
 {
-	Eigen::VectorXd full(base_->tangent_size());
+	Scratch<double, 16> full(static_cast<std::size_t>(base_->tangent_size()));
 	base_->minus(y, x, full.data());
-	for (std::size_t i = 0; i < coords_.size(); i++) delta[i] = full[coords_[i]];
+	for (std::size_t i = 0; i < coords_.size(); i++) delta[i] = full.data()[coords_[i]];
 }
 
 std::shared_ptr<const SubspaceManifold> planar_pose_manifold()
@@ -80,26 +85,31 @@ SubspaceFactor::SubspaceFactor(std::shared_ptr<const Factor> inner, std::vector<
 
 bool SubspaceFactor::evaluate(const double* const* x, double* residual, double* const* jacobians) const
 {
+	// The inner factor's residual, then its full Jacobian blocks, in one scratch buffer.
 	const int m = inner_->residual_dim(), n = num_variables();
-	Eigen::VectorXd r(m);
-	std::vector<RowMajor> full(static_cast<std::size_t>(n));
-	std::vector<double*> jp(static_cast<std::size_t>(n), nullptr);
+	const auto& full_dims = inner_->tangent_dims();
+	std::size_t size = static_cast<std::size_t>(m);
 	for (int i = 0; jacobians && i < n; i++)
-		if (jacobians[i])
-		{
-			full[i].resize(m, inner_->tangent_dims()[i]);
-			jp[i] = full[i].data();
-		}
-	if (!inner_->evaluate(x, r.data(), jacobians ? jp.data() : nullptr)) return false;
+		if (jacobians[i]) size += static_cast<std::size_t>(m * full_dims[i]);
+	Scratch<double, 128> buffer(size);
+	Scratch<double*, 8> full(static_cast<std::size_t>(n));
+	double* next = buffer.data() + m;
+	for (int i = 0; i < n; i++)
+	{
+		full.data()[i] = jacobians && jacobians[i] ? next : nullptr;
+		if (full.data()[i]) next += m * full_dims[i];
+	}
+	if (!inner_->evaluate(x, buffer.data(), jacobians ? full.data() : nullptr)) return false;
 	const int rows = residual_dim();
-	for (int k = 0; k < rows; k++) residual[k] = r[rows_[k]];
+	for (int k = 0; k < rows; k++) residual[k] = buffer.data()[rows_[k]];
 	for (int i = 0; jacobians && i < n; i++)
 	{
 		if (!jacobians[i]) continue;
 		const int cols = tangent_dims()[i];
 		Eigen::Map<RowMajor> J(jacobians[i], rows, cols);
+		const Eigen::Map<const RowMajor> F(full.data()[i], m, full_dims[i]);
 		for (int k = 0; k < rows; k++)
-			for (int c = 0; c < cols; c++) J(k, c) = full[i](rows_[k], coords_[i].empty() ? c : coords_[i][c]);
+			for (int c = 0; c < cols; c++) J(k, c) = F(rows_[k], coords_[i].empty() ? c : coords_[i][c]);
 	}
 	return true;
 }

@@ -86,7 +86,12 @@ void Program::add_factor(FactorId id, const Problem::FactorEntry& entry, const P
 	residual_size_ += fs.m;
 	int n_elim = 0;
 	const int fidx = static_cast<int>(factors_.size());
-	for (size_t s = 0; s < entry.variables.size(); s++)
+	const size_t k = entry.variables.size();
+	fs.values.reserve(k);
+	fs.kind.reserve(k);
+	fs.index.reserve(k);
+	fs.jacobian_offset.reserve(k);
+	for (size_t s = 0; s < k; s++)
 	{
 		const auto [kind, index] = where.at(entry.variables[s]);
 		fs.values.push_back(problem_.value(entry.variables[s]));

@@ -1,5 +1,7 @@
 #include "program_evaluator.h"
 
+#include <swba/core/scratch.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -19,19 +21,10 @@ void ProgramEvaluator::evaluate_factor(int f, bool want_jacobians, const Outputs
 	const auto& fs = program_.factor(f);
 	const int k = static_cast<int>(fs.values.size());
 	double* r = out.residuals->data() + fs.residual_offset;
-	double* jac[16];
-	int cols[16];
-	std::vector<double*> jac_heap;
-	double** J = jac;
-	int* C = cols;
-	std::vector<int> cols_heap;
-	if (k > 16)
-	{
-		jac_heap.resize(k);
-		cols_heap.resize(k);
-		J = jac_heap.data();
-		C = cols_heap.data();
-	}
+	Scratch<double*, 16> jac(static_cast<std::size_t>(k));
+	Scratch<int, 16> dims(static_cast<std::size_t>(k));
+	double** J = jac.data();
+	int* C = dims.data();
 	for (int s = 0; s < k; s++)
 	{
 		J[s] = (want_jacobians && fs.jacobian_offset[s] >= 0) ? jacobians_.data() + fs.jacobian_offset[s] : nullptr;
