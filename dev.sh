@@ -43,12 +43,13 @@ build_asan() {
 		-DSWBA_SANITIZE=ON -DSWBA_FUZZ=ON "-DSWBA_FUZZ_COVERAGE=core;io;eval;apps" -DSWBA_BUILD_BENCH=OFF
 }
 
-# Extra arguments of `test` go to ctest in the sanitizer suite.
 # ctest runs one test per core, so an OpenMP worker that spins while it waits takes its core from the
 # other test; in the sanitizer build (clang's libomp beside MRPT's libgomp) the idle workers' spinning
 # was a third of a window run's CPU time (doc/benchmarks/ci.md). Idle workers sleep: the suites gain, one
 # run's wall time does not change (measured on mrclam6_r5).
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
+
+# Extra arguments of `test` go to ctest in the sanitizer suite.
 test_release() {
 	build build
 	ctest --test-dir build --output-on-failure -j "$jobs" "$@"
