@@ -4,7 +4,8 @@
 # to fail ("killed"). Prints one line per mutation and exits 1 if any survives, or if a named test
 # already fails without its mutation. On demand, not part of CI (each mutation is a rebuild):
 #   scripts/mutation-check.sh [ID ...]      all mutations, or only those IDs
-# Work directory: build-mutation/ (a copy of HEAD and its build; reused between runs).
+# Work directory: build-mutation/ (a copy of HEAD and its build; reused between runs: a rerun rebuilds
+# only what differs from the last one's tree).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -13,9 +14,17 @@ work=$root/build-mutation
 src=$work/src
 jobs=$(nproc 2>/dev/null || echo 2)
 
-rm -rf "$src" && mkdir -p "$src"
-# -m: files get the time of extraction, so the build never keeps an object of an earlier mutated copy.
-git archive HEAD | tar -x -m -C "$src"
+# The copy is brought to HEAD file by file: only a file whose content differs is rewritten (and so
+# rebuilt), so a rerun reuses the objects of the last one. A mutated file left by an interrupted run
+# differs from HEAD and is rewritten; a restored one was touched when it was restored.
+head_tree=$work/head
+rm -rf "$head_tree" && mkdir -p "$head_tree" "$src"
+git archive HEAD | tar -x -C "$head_tree"
+(cd "$head_tree" && find . -type f) | while IFS= read -r f; do
+	cmp -s "$head_tree/$f" "$src/$f" && continue
+	mkdir -p "$(dirname "$src/$f")" && cp "$head_tree/$f" "$src/$f" && touch "$src/$f"
+done
+(cd "$src" && find . -type f) | while IFS= read -r f; do [ -e "$head_tree/$f" ] || rm -f "$src/$f"; done
 cmake -S "$src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DSWBA_BUILD_BENCH=OFF >/dev/null
 
 build() { cmake --build "$work/build" -j "$jobs" >"$work/build.log" 2>&1; }
