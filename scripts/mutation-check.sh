@@ -90,7 +90,6 @@ for i in "${!ids[@]}"; do
 	else
 		printf '%-34s KILLED    by %s\n' "${ids[$i]}" "$failed"
 	fi
-	mv "$f.orig" "$f"
-	touch "$f"  # the next build restores the unmutated object
+	touch "$f.orig" && mv "$f.orig" "$f"  # newer than the mutated object: the next build restores it
 done
 exit $status
