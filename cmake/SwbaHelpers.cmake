@@ -25,6 +25,11 @@ endif()
 if(SWBA_SANITIZE)
   target_compile_options(swba_build_flags INTERFACE -fsanitize=${SWBA_SANITIZERS} -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   target_link_options(swba_build_flags INTERFACE -fsanitize=${SWBA_SANITIZERS})
+  # UBSan instruments swba's own code, not the system's headers (ubsan-ignorelist.txt says why).
+  if(CMAKE_CXX_COMPILER_ID MATCHES "Clang" AND SWBA_SANITIZERS MATCHES "undefined")
+    target_compile_options(swba_build_flags INTERFACE
+      -fsanitize-ignorelist=${CMAKE_CURRENT_LIST_DIR}/ubsan-ignorelist.txt)
+  endif()
 endif()
 # A fuzzing build (clang, SWBA_FUZZ and SWBA_SANITIZE, see fuzz/CMakeLists.txt) gives libFuzzer the
 # coverage of swba's own code: the coverage instrumentation (fuzzer-no-link), whose callbacks the
