@@ -9,6 +9,7 @@ pkgs=(cmake g++ make libeigen3-dev libsuitesparse-dev libgtest-dev
 	libceres-dev     # optional: benchmark peer only
 	gnuplot-nox      # optional: headless plots
 	clang libclang-rt-14-dev  # the fuzz smoke of ./dev.sh test (libFuzzer, sanitizer runtimes)
+	ninja-build lld  # the sanitizer build of ./dev.sh test: ninja's scheduling, lld's faster links
 	mrpt-apps        # simul-landmarks: simulated rawlogs (swba simulate, swba nees, scripts/make-rawlogs.sh)
 	parallel)        # GNU parallel: runs the job lists of swba jobs / swba nees (doc/sweeps.md)
 missing=()
