@@ -8,7 +8,7 @@
 #                                     suppressions: tests/lsan.supp)
 #   ./dev.sh fuzz-smoke               every libFuzzer harness of build-asan/ for SWBA_FUZZ_SMOKE_SECONDS
 #                                     (default 5; doc/fuzzing.md)
-#   ./dev.sh test-budget              the memory-budget tests, which need a build without ASan (build/)
+#   ./dev.sh test-budget              the memory-budget tests, which need a build without ASan (build-budget/)
 #   ./dev.sh build                    only install dependencies and build
 #   ./dev.sh swba <command> [...]     build, then run any swba subcommand
 set -euo pipefail
@@ -64,15 +64,24 @@ test_asan() {
 	ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0" \
 		ctest --test-dir build-asan --output-on-failure -j "$jobs" "$@"
 }
+# The seven harnesses in two halves side by side (each harness runs on one core).
 fuzz_smoke() {
 	[ -x build-asan/fuzz/swba_fuzz_rawlog ] || build_asan
-	FUZZ_NO_BUILD=1 FUZZ_BUILD_DIR=build-asan scripts/fuzz-campaign.sh "${SWBA_FUZZ_SMOKE_SECONDS:-5}"
+	local s=${SWBA_FUZZ_SMOKE_SECONDS:-5} rc1=0 rc2=0
+	FUZZ_NO_BUILD=1 FUZZ_BUILD_DIR=build-asan scripts/fuzz-campaign.sh "$s" rawlog tum ini g2o &
+	local p1=$!
+	FUZZ_NO_BUILD=1 FUZZ_BUILD_DIR=build-asan scripts/fuzz-campaign.sh "$s" directba bal ground_truth || rc2=$?
+	wait "$p1" || rc1=$?
+	[ "$rc1" -eq 0 ] && [ "$rc2" -eq 0 ]
 }
 # ASan reserves terabytes of address space, so read_rawlog's memory budget (an RLIMIT_AS cap) cannot be
-# tested in build-asan/, where those tests skip themselves; they run here, in the Release build.
+# tested in build-asan/, where those tests skip themselves; they run in build-budget/, without
+# sanitizers (clang, unity build: the stage's two modules build in half of GCC's time; `./dev.sh
+# test-release` runs them with GCC in build/ too).
 test_budget() {
-	build build --target swba_test_core_budget --target swba_test_io_budget
-	ctest --test-dir build --output-on-failure -j "$jobs" -R 'MemoryBudget'
+	CC=clang-14 CXX=clang++-14 build build-budget --target swba_test_core_budget --target swba_test_io_budget \
+		-G Ninja -DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld -DCMAKE_UNITY_BUILD=ON -DSWBA_BUILD_BENCH=OFF
+	ctest --test-dir build-budget --output-on-failure -j "$jobs" -R 'MemoryBudget'
 }
 stage() {  # stage <name> <function> [args...]: runs it and prints its wall time
 	local name=$1 t0
