@@ -101,7 +101,7 @@ test)
 	t_all=$(date +%s)
 	stage "sanitizer suite" test_asan "$@"
 	stage "fuzz smoke" fuzz_smoke
-	stage "memory-budget tests (Release)" test_budget
+	stage "memory-budget tests (no sanitizers)" test_budget
 	echo "== dev.sh: all passed in $(($(date +%s) - t_all)) s" >&2
 	;;
 test-release)
