@@ -38,13 +38,15 @@ build() {  # build <dir> [--target T]... [extra cmake args...]
 # UBSan checks swba's own code, not the system headers (cmake/ubsan-ignorelist.txt); ASan checks all.
 # Ninja starts a module's sources while the modules it links are still compiling (make waits for them, and
 # one core idles behind the largest unity source of each module), and lld links in 60 % of ld's time.
+build_clang() {  # build_clang <dir> [--target T]... [extra cmake args...]: the clang trees' common flags
+	CC=clang-14 CXX=clang++-14 build "$@" -G Ninja -DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld -DCMAKE_UNITY_BUILD=ON
+}
 build_asan() {
 	if [ -f build-asan/CMakeCache.txt ] && ! { grep -q "^CMAKE_CXX_COMPILER:.*clang" build-asan/CMakeCache.txt &&
 		grep -q "^CMAKE_GENERATOR:INTERNAL=Ninja" build-asan/CMakeCache.txt; }; then
 		rm -rf build-asan  # configured with another compiler or generator by an older dev.sh
 	fi
-	CC=clang-14 CXX=clang++-14 build build-asan -G Ninja -DCMAKE_CXX_FLAGS=-gline-tables-only \
-		-DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld -DCMAKE_UNITY_BUILD=ON -DSWBA_SANITIZE=ON -DSWBA_FUZZ=ON \
+	build_clang build-asan -DCMAKE_CXX_FLAGS=-gline-tables-only -DSWBA_SANITIZE=ON -DSWBA_FUZZ=ON \
 		"-DSWBA_FUZZ_COVERAGE=core;io;eval;apps" -DSWBA_BUILD_BENCH=OFF
 }
 
@@ -64,13 +66,22 @@ test_asan() {
 	ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0" \
 		ctest --test-dir build-asan --output-on-failure -j "$jobs" "$@"
 }
-# The seven harnesses in two halves side by side (each harness runs on one core).
+# Every libFuzzer harness build-asan/ has, in two halves side by side (each harness runs on one core).
 fuzz_smoke() {
 	[ -x build-asan/fuzz/swba_fuzz_rawlog ] || build_asan
-	local s=${SWBA_FUZZ_SMOKE_SECONDS:-5} rc1=0 rc2=0
-	FUZZ_NO_BUILD=1 FUZZ_BUILD_DIR=build-asan scripts/fuzz-campaign.sh "$s" rawlog tum ini g2o &
+	local s=${SWBA_FUZZ_SMOKE_SECONDS:-5} rc1=0 rc2=0 f r
+	local halves=("" "")
+	for f in build-asan/fuzz/swba_fuzz_*; do
+		r=${f##*/swba_fuzz_}
+		[[ -x $f && $r != replay_* ]] || continue
+		halves[0]+=" $r"
+		halves=("${halves[1]}" "${halves[0]}")  # alternate
+	done
+	# shellcheck disable=SC2086  # the halves are word lists of reader names
+	FUZZ_NO_BUILD=1 FUZZ_BUILD_DIR=build-asan scripts/fuzz-campaign.sh "$s" ${halves[0]} &
 	local p1=$!
-	FUZZ_NO_BUILD=1 FUZZ_BUILD_DIR=build-asan scripts/fuzz-campaign.sh "$s" directba bal ground_truth || rc2=$?
+	# shellcheck disable=SC2086
+	FUZZ_NO_BUILD=1 FUZZ_BUILD_DIR=build-asan scripts/fuzz-campaign.sh "$s" ${halves[1]} || rc2=$?
 	wait "$p1" || rc1=$?
 	[ "$rc1" -eq 0 ] && [ "$rc2" -eq 0 ]
 }
@@ -79,8 +90,7 @@ fuzz_smoke() {
 # sanitizers (clang, unity build: the stage's two modules build in half of GCC's time; `./dev.sh
 # test-release` runs them with GCC in build/ too).
 test_budget() {
-	CC=clang-14 CXX=clang++-14 build build-budget --target swba_test_core_budget --target swba_test_io_budget \
-		-G Ninja -DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld -DCMAKE_UNITY_BUILD=ON -DSWBA_BUILD_BENCH=OFF
+	build_clang build-budget --target swba_test_core_budget --target swba_test_io_budget -DSWBA_BUILD_BENCH=OFF
 	ctest --test-dir build-budget --output-on-failure -j "$jobs" -R 'MemoryBudget'
 }
 stage() {  # stage <name> <function> [args...]: runs it and prints its wall time
