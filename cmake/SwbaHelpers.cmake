@@ -46,6 +46,25 @@ if(SWBA_FUZZ AND SWBA_SANITIZE AND CMAKE_CXX_COMPILER_ID MATCHES "Clang")
   endif()
 endif()
 
+# SWBA_PCH: the system headers most sources parse, precompiled once per target (a module's sources
+# share its flags) or once for all the tests (one target's header reused by the others: their flags are
+# the same). Only system headers: a source that forgets one of swba's own includes still fails.
+set(SWBA_PCH_HEADERS <algorithm> <array> <cmath> <cstdio> <fstream> <functional> <map> <memory> <set>
+  <sstream> <stdexcept> <string> <vector> <Eigen/Core> <Eigen/Cholesky> <Eigen/Geometry>
+  <mrpt/poses/CPose3D.h>)
+# swba_target_pch(<target> [REUSE_FROM <host>] [EXTRA <headers...>])
+function(swba_target_pch target)
+  cmake_parse_arguments(ARG "" "REUSE_FROM" "EXTRA" ${ARGN})
+  if(NOT SWBA_PCH)
+    return()
+  endif()
+  if(ARG_REUSE_FROM)
+    target_precompile_headers(${target} REUSE_FROM ${ARG_REUSE_FROM})
+  else()
+    target_precompile_headers(${target} PRIVATE ${SWBA_PCH_HEADERS} ${ARG_EXTRA})
+  endif()
+endfunction()
+
 # swba_add_module(<name> DEPS <targets...> PRIVATE_DEPS <targets...>)
 #   Builds modules/<name>/src/*.cpp into the static library swba_<name> (alias swba::<name>, exported
 #   as swba::<name>), public headers in modules/<name>/include/swba/<name>/.
@@ -74,6 +93,7 @@ function(swba_add_module name)
   if(SWBA_SANITIZE)  # objects built with sanitizers need the runtime at the user's link step
     target_link_options(swba_${name} INTERFACE $<INSTALL_INTERFACE:-fsanitize=${SWBA_SANITIZERS}>)
   endif()
+  swba_target_pch(swba_${name})
   set_property(GLOBAL APPEND PROPERTY SWBA_MODULE_INCLUDE_DIRS "${name}=${CMAKE_CURRENT_SOURCE_DIR}/include")
   install(TARGETS swba_${name} EXPORT swbaTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
