@@ -48,7 +48,8 @@ endif()
 
 # SWBA_PCH: the system headers most sources parse, precompiled once per target (a module's sources
 # share its flags) or once for all the tests (one target's header reused by the others: their flags are
-# the same). Only system headers: a source that forgets one of swba's own includes still fails.
+# the same). Only system headers; like the unity build it can hide a source's missing system include,
+# which the plain build (`./dev.sh run`, no unity, no SWBA_PCH) reports. The header checks never use it.
 set(SWBA_PCH_HEADERS <algorithm> <array> <cmath> <cstdio> <fstream> <functional> <map> <memory> <set>
   <sstream> <stdexcept> <string> <vector> <Eigen/Core> <Eigen/Cholesky> <Eigen/Geometry>
   <mrpt/poses/CPose3D.h>)
