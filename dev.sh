@@ -88,10 +88,11 @@ fuzz_smoke() {
 }
 # ASan reserves terabytes of address space, so read_rawlog's memory budget (an RLIMIT_AS cap) cannot be
 # tested in build-asan/, where those tests skip themselves; they run in build-budget/, without
-# sanitizers (clang, unity build: the stage's two modules build in half of GCC's time; `./dev.sh
-# test-release` runs them with GCC in build/ too).
+# sanitizers (clang, unity build and precompiled headers: the stage's two modules build in half of
+# GCC's time; `./dev.sh test-release` runs them with GCC in build/ too).
 test_budget() {
-	build_clang build-budget --target swba_test_core_budget --target swba_test_io_budget -DSWBA_BUILD_BENCH=OFF
+	build_clang build-budget --target swba_test_core_budget --target swba_test_io_budget -DSWBA_BUILD_BENCH=OFF \
+		-DSWBA_PCH=ON
 	ctest --test-dir build-budget --output-on-failure -j "$jobs" -R 'MemoryBudget'
 }
 stage() {  # stage <name> <function> [args...]: runs it and prints its wall time

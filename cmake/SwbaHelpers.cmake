@@ -47,22 +47,41 @@ if(SWBA_FUZZ AND SWBA_SANITIZE AND CMAKE_CXX_COMPILER_ID MATCHES "Clang")
 endif()
 
 # SWBA_PCH: the system headers most sources parse, precompiled once per target (a module's sources
-# share its flags) or once for all the tests (one target's header reused by the others: their flags are
-# the same). Only system headers; like the unity build it can hide a source's missing system include,
-# which the plain build (`./dev.sh run`, no unity, no SWBA_PCH) reports. The header checks never use it.
+# share its flags), or once per group of targets whose flags are the same (the tests, the fuzz replays,
+# the libFuzzer harnesses) in a host target of its own that depends on nothing swba builds, so that no
+# target of a group waits for another. Only system headers; like the unity build it can hide a source's
+# missing system include, which the plain build (`./dev.sh run`, no unity, no SWBA_PCH) reports. The
+# header checks never use it.
 set(SWBA_PCH_HEADERS <algorithm> <array> <cmath> <cstdio> <fstream> <functional> <map> <memory> <set>
   <sstream> <stdexcept> <string> <vector> <Eigen/Core> <Eigen/Cholesky> <Eigen/Geometry>
   <mrpt/poses/CPose3D.h>)
-# swba_target_pch(<target> [REUSE_FROM <host>] [EXTRA <headers...>])
+# swba_target_pch(<target>): the target's own precompiled headers.
 function(swba_target_pch target)
-  cmake_parse_arguments(ARG "" "REUSE_FROM" "EXTRA" ${ARGN})
+  if(SWBA_PCH)
+    target_precompile_headers(${target} PRIVATE ${SWBA_PCH_HEADERS})
+  endif()
+endfunction()
+# swba_add_pch_host(<host> [EXTRA <headers...>] [LIBS <targets...>] [DEFINITIONS <defs...>]
+#   [OPTIONS <options...>]): the host of a group, compiled with swba_build_flags and what LIBS,
+#   DEFINITIONS and OPTIONS add — the same flags as its group's targets (clang refuses a header
+#   precompiled with others). LIBS: imported targets only (their usage requirements, no build).
+function(swba_add_pch_host host)
+  cmake_parse_arguments(ARG "" "" "EXTRA;LIBS;DEFINITIONS;OPTIONS" ${ARGN})
   if(NOT SWBA_PCH)
     return()
   endif()
-  if(ARG_REUSE_FROM)
-    target_precompile_headers(${target} REUSE_FROM ${ARG_REUSE_FROM})
-  else()
-    target_precompile_headers(${target} PRIVATE ${SWBA_PCH_HEADERS} ${ARG_EXTRA})
+  set(src ${CMAKE_CURRENT_BINARY_DIR}/${host}.cpp)
+  file(CONFIGURE OUTPUT ${src} CONTENT "// ${host}: precompiled headers of a group of targets (SWBA_PCH)\n")
+  add_library(${host} OBJECT ${src})
+  target_link_libraries(${host} PRIVATE Eigen3::Eigen mrpt::poses swba_build_flags ${ARG_LIBS})
+  target_compile_definitions(${host} PRIVATE ${ARG_DEFINITIONS})
+  target_compile_options(${host} PRIVATE ${ARG_OPTIONS})
+  target_precompile_headers(${host} PRIVATE ${SWBA_PCH_HEADERS} ${ARG_EXTRA})
+endfunction()
+# swba_reuse_pch(<target> <host>): the group's precompiled headers (see swba_add_pch_host).
+function(swba_reuse_pch target host)
+  if(SWBA_PCH)
+    target_precompile_headers(${target} REUSE_FROM ${host})
   endif()
 endfunction()
 
