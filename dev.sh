@@ -74,7 +74,7 @@ fuzz_smoke() {
 	local halves=("" "")
 	for f in build-asan/fuzz/swba_fuzz_*; do
 		r=${f##*/swba_fuzz_}
-		[[ -x $f && $r != replay_* ]] || continue
+		[[ -f $f && -x $f && $r != replay_* ]] || continue  # executables only, not the replays
 		halves[0]+=" $r"
 		halves=("${halves[1]}" "${halves[0]}")  # alternate
 	done
