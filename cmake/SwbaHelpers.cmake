@@ -55,9 +55,15 @@ endif()
 set(SWBA_PCH_HEADERS <algorithm> <array> <cmath> <cstdio> <fstream> <functional> <map> <memory> <set>
   <sstream> <stdexcept> <string> <vector> <Eigen/Core> <Eigen/Cholesky> <Eigen/Geometry>
   <mrpt/poses/CPose3D.h>)
-# swba_target_pch(<target>): the target's own precompiled headers.
+# swba_target_pch(<target> [REUSE_FROM <host>]): the target's own precompiled headers, or its group's
+# (a host of swba_add_pch_host).
 function(swba_target_pch target)
-  if(SWBA_PCH)
+  cmake_parse_arguments(ARG "" "REUSE_FROM" "" ${ARGN})
+  if(NOT SWBA_PCH)
+    return()
+  elseif(ARG_REUSE_FROM)
+    target_precompile_headers(${target} REUSE_FROM ${ARG_REUSE_FROM})
+  else()
     target_precompile_headers(${target} PRIVATE ${SWBA_PCH_HEADERS})
   endif()
 endfunction()
@@ -77,12 +83,6 @@ function(swba_add_pch_host host)
   target_compile_definitions(${host} PRIVATE ${ARG_DEFINITIONS})
   target_compile_options(${host} PRIVATE ${ARG_OPTIONS})
   target_precompile_headers(${host} PRIVATE ${SWBA_PCH_HEADERS} ${ARG_EXTRA})
-endfunction()
-# swba_reuse_pch(<target> <host>): the group's precompiled headers (see swba_add_pch_host).
-function(swba_reuse_pch target host)
-  if(SWBA_PCH)
-    target_precompile_headers(${target} REUSE_FROM ${host})
-  endif()
 endfunction()
 
 # swba_add_module(<name> DEPS <targets...> PRIVATE_DEPS <targets...>)
