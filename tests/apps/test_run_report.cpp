@@ -202,7 +202,7 @@ TEST(RunSummaryJson, ShapeOfTheDocumentedExample)
 	const std::vector<std::string> row_keys = {"name", "label", "window", "trajectory", "policy", "fej", "method", "file",
 											   "poses", "ape_trans", "ape_full", "ape_rot", "rpe_trans", "association", "seconds", "ms_per_step",
 											   "covariance_seconds", "steps_processed", "readings", "start", "final_cost", "diverged", "divergence",
-											   "reading_misfit", "failed", "failed_step", "failure", "interrupted"};
+											   "reading_misfit", "nees", "failed", "failed_step", "failure", "interrupted"};
 	for (std::size_t i = 0; i < rep.rows.size(); i++)
 	{
 		const Json& e = j["estimators"][i];

@@ -321,3 +321,6 @@ add_test(NAME apps.cli.new_user_walkthrough
           ${SWBA_MRPT_DATASETS} ${CMAKE_SOURCE_DIR})
 set_tests_properties(apps.cli.new_user_walkthrough PROPERTIES PASS_REGULAR_EXPRESSION "OK: new-user walkthrough"
   FAIL_REGULAR_EXPRESSION "FAIL " TIMEOUT 300)
+
+# test_run_nees.cpp tests swba run's consistency figures through the private header of modules/apps/src/run.
+target_include_directories(swba_test_apps PRIVATE ${CMAKE_SOURCE_DIR}/modules/apps/src/run)

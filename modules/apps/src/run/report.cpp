@@ -211,6 +211,19 @@ ordered_json association_object(const estimators::AssociationQuality& q)
 }
 
 /** One entry of "estimators"; fields that do not apply to the row are null. */
+ordered_json nees_object(const RowNees& n)
+{
+	ordered_json o;
+	o["poses"] = n.poses;
+	o["position_mean"] = number(n.position_mean);
+	o["position_dof"] = n.position_dof;
+	o["position_in_band"] = number(n.position_in_band);
+	o["pose_mean"] = number(n.pose_mean);
+	o["pose_dof"] = n.pose_dof;
+	o["pose_in_band"] = number(n.pose_in_band);
+	return o;
+}
+
 ordered_json row_object(const RunRow& r)
 {
 	ordered_json e;
@@ -236,6 +249,7 @@ ordered_json row_object(const RunRow& r)
 	e["diverged"] = r.diverged;
 	e["divergence"] = r.diverged ? ordered_json(r.divergence) : ordered_json(nullptr);
 	e["reading_misfit"] = r.reading_misfit ? number(*r.reading_misfit) : ordered_json(nullptr);
+	e["nees"] = r.nees ? nees_object(*r.nees) : ordered_json(nullptr);
 	e["failed"] = r.failed;
 	e["failed_step"] = r.failed ? ordered_json(r.failed_step) : ordered_json(nullptr);
 	e["failure"] = r.failed ? ordered_json(r.failure) : ordered_json(nullptr);

@@ -6,6 +6,7 @@
 #include <swba/estimators/ekf_slam.h>
 #include <swba/estimators/sliding_window.h>
 #include <swba/eval/ground_truth.h>
+#include <swba/eval/nees.h>
 
 #include <cstdio>
 #include <optional>
@@ -138,6 +139,40 @@ std::string one_line(const std::string& what)
 	return s;
 }
 
+void compute_row_nees(RunRow& row, const std::vector<mrpt::poses::CPose3D>& gt)
+{
+	if (row.covariance.empty() || row.covariance.size() != row.estimate.size()) return;
+	std::vector<eval::CovarianceRow> cov;
+	for (std::size_t i = 0; i < row.covariance.size(); i++)
+	{
+		const Eigen::Matrix3d R = row.estimate.poses[i].getRotationMatrix().asEigen();
+		eval::CovarianceRow c;
+		c.stamp = row.estimate.stamps[i];
+		c.position = R * row.covariance[i].topLeftCorner<3, 3>() * R.transpose();
+		c.pose = row.covariance[i];
+		cov.push_back(c);
+	}
+	try
+	{
+		const eval::RunNees run = eval::run_nees(row.estimate, cov, gt, row.label);
+		if (run.position.empty()) return;
+		const eval::AverageNees a = eval::average_nees({run});
+		RowNees n;
+		n.poses = run.position.size();
+		n.position_mean = a.position.mean_over_steps;
+		n.pose_mean = a.pose.mean_over_steps;
+		n.position_dof = run.position.front().dof;
+		n.pose_dof = run.pose.front().dof;
+		n.position_in_band = a.position.share_in_band;
+		n.pose_in_band = a.pose.share_in_band;
+		row.nees = n;
+	}
+	catch (const std::exception& e)
+	{
+		row.nees_error = one_line(e.what());
+	}
+}
+
 void compute_row_ape(RunRow& row, const std::vector<mrpt::poses::CPose3D>& gt)
 {
 	if (gt.empty() || row.failed || row.estimate.empty()) return;
@@ -149,6 +184,7 @@ void compute_row_ape(RunRow& row, const std::vector<mrpt::poses::CPose3D>& gt)
 	row.ape_rot = eval::compute_statistics(
 		eval::ape_errors_against_ground_truth(gt, row.estimate, eval::PoseRelation::RotationAngleDeg));
 	row.has_ape = true;
+	compute_row_nees(row, gt);
 	row.has_rpe = row.estimate.size() >= 2;
 	if (row.has_rpe)
 		row.rpe_trans = eval::compute_statistics(eval::rpe_errors(eval::paired_ground_truth(gt, row.estimate), row.estimate,

@@ -45,6 +45,10 @@ RunRow run_causal_row(const RowContext& ctx, const estimators::SlidingWindowOpti
 
 /** A multi-line exception text (MRPT's carry a call stack) as one line. */
 std::string one_line(const std::string& what);
-/** Fills row.ape_* from the ground truth (nothing for a failed row or without ground truth). */
+/** Fills row.ape_* from the ground truth (nothing for a failed row or without ground truth), and row.nees
+ * (compute_row_nees). */
 void compute_row_ape(RunRow& row, const std::vector<mrpt::poses::CPose3D>& ground_truth);
+/** Fills row.nees from row.covariance (one per pose of row.estimate; nothing without) and the ground
+ * truth, or row.nees_error when a covariance is not positive definite. */
+void compute_row_nees(RunRow& row, const std::vector<mrpt::poses::CPose3D>& ground_truth);
 }  // namespace swba::apps

@@ -279,6 +279,25 @@ void add_reading_notes(RunReport& report)
 													  : std::string()));
 	}
 }
+
+/** One note per estimator with a covariance and ground truth (not diverged) on the consistency of that
+ * covariance. */
+void add_nees_notes(RunReport& report)
+{
+	char buf[256];
+	for (const auto& r : report.rows)
+	{
+		if (!r.nees_error.empty()) report.notes.push_back(r.label + ": NEES not computed: " + r.nees_error);
+		if (!r.nees || r.diverged) continue;  // a diverged row's figures are not a result
+		const RowNees& n = *r.nees;
+		std::snprintf(buf, sizeof(buf),
+					  "NEES against the ground truth (%zu poses): position %.2f (%d dof), pose %.2f (%d dof); %.1f %% / "
+					  "%.1f %% inside one run's 95 %% band (about 95 %% if the covariance is consistent)",
+					  n.poses, n.position_mean, n.position_dof, n.pose_mean, n.pose_dof, 100.0 * n.position_in_band,
+					  100.0 * n.pose_in_band);
+		report.notes.push_back(r.label + ": " + buf);
+	}
+}
 }  // namespace
 
 RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
@@ -329,6 +348,7 @@ RunReport run_estimators(const RunOptions& options, const io::Rawlog& rawlog,
 	add_reading_notes(report);
 	mark_diverged_rows(report, rawlog, ctx.base,
 					   estimators::resolve_pose_model(ctx.base.model, rawlog.steps) == estimators::PoseModel::Planar);
+	add_nees_notes(report);
 	return report;
 }
 

@@ -31,6 +31,18 @@
 
 namespace swba::apps
 {
+/** A row's consistency against the ground truth: the NEES of its estimate with its own covariance, one
+ * run's (swba/eval/nees.h), averaged over the poses that have a covariance. */
+struct RowNees
+{
+	std::size_t poses = 0;  ///< poses with a covariance (a pose whose every dof is fixed is left out)
+	double position_mean = 0, pose_mean = 0;
+	int position_dof = 0, pose_dof = 0;  ///< of one pose (planar: 2 and 3)
+	/** Share of those poses whose NEES lies in the two-sided 95 % χ² band of one run (a consistent
+	 * estimate: about 0.95). */
+	double position_in_band = 0, pose_in_band = 0;
+};
+
 /** One estimator's result: one row of the comparison table, one entry of summary.json. */
 struct RunRow
 {
@@ -65,6 +77,9 @@ struct RunRow
 	eval::Statistics rpe_trans;
 	bool has_rpe = false;
 	std::vector<double> ape_trans_errors;  ///< per pose of `estimate`: APE translation part (m), for the plots
+	/** Rows with ground truth and `covariance`: how consistent the covariance is with the error. */
+	std::optional<RowNees> nees;
+	std::string nees_error;  ///< why `nees` could not be computed (a covariance not positive definite), one line
 
 	double seconds = 0;      ///< wall time of the estimator (all its steps, or the batch solve)
 	double ms_per_step = 0;  ///< seconds·1000 / steps processed
