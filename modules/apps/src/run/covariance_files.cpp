@@ -21,6 +21,12 @@ void upper_triangle(std::ostringstream& s, const M& m)
 }
 }  // namespace
 
+Eigen::Matrix3d world_position_covariance(const mrpt::poses::CPose3D& pose, const estimators::PoseCovariance& covariance)
+{
+	const Eigen::Matrix3d R = pose.getRotationMatrix().asEigen();
+	return R * covariance.topLeftCorner<3, 3>() * R.transpose();
+}
+
 std::string format_pose_covariances(const RunRow& row)
 {
 	std::ostringstream s;
@@ -28,8 +34,7 @@ std::string format_pose_covariances(const RunRow& row)
 	for (std::size_t i = 0; i < row.covariance.size() && i < row.estimate.size(); i++)
 	{
 		const estimators::PoseCovariance& c = row.covariance[i];
-		const Eigen::Matrix3d R = row.estimate.poses[i].getRotationMatrix().asEigen();
-		const Eigen::Matrix3d position = R * c.topLeftCorner<3, 3>() * R.transpose();
+		const Eigen::Matrix3d position = world_position_covariance(row.estimate.poses[i], c);
 		std::snprintf(buf, sizeof(buf), "%.9f", row.estimate.stamps[i]);  // as the TUM file
 		s << buf;
 		upper_triangle(s, position);

@@ -7,6 +7,9 @@
 
 namespace swba::apps
 {
+/** The world-frame position covariance R Σ_ρρ Rᵀ of `pose` from its tangent covariance (T_true = T·Exp(δ),
+ * δ = [ρ, ω]: ρ is in the pose's frame). */
+Eigen::Matrix3d world_position_covariance(const mrpt::poses::CPose3D& pose, const estimators::PoseCovariance& covariance);
 /** `<stem>.cov`: one line per pose of row.estimate (the TUM file's rows): the stamp, the 6 upper-triangle
  * entries (xx xy xz yy yz zz) of the world-frame position covariance R Σ_ρρ Rᵀ, then the 21
  * upper-triangle entries (row-major) of the 6×6 pose covariance in the tangent convention. */

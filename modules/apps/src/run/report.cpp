@@ -210,7 +210,6 @@ ordered_json association_object(const estimators::AssociationQuality& q)
 	return j;
 }
 
-/** One entry of "estimators"; fields that do not apply to the row are null. */
 ordered_json nees_object(const RowNees& n)
 {
 	ordered_json o;
@@ -224,6 +223,7 @@ ordered_json nees_object(const RowNees& n)
 	return o;
 }
 
+/** One entry of "estimators"; fields that do not apply to the row are null. */
 ordered_json row_object(const RunRow& r)
 {
 	ordered_json e;

@@ -1,6 +1,7 @@
 // swba run: the EKF, window, batch and causal rows.
 #include "rows.h"
 
+#include "covariance_files.h"
 #include "progress.h"
 
 #include <swba/estimators/ekf_slam.h>
@@ -145,10 +146,9 @@ void compute_row_nees(RunRow& row, const std::vector<mrpt::poses::CPose3D>& gt)
 	std::vector<eval::CovarianceRow> cov;
 	for (std::size_t i = 0; i < row.covariance.size(); i++)
 	{
-		const Eigen::Matrix3d R = row.estimate.poses[i].getRotationMatrix().asEigen();
 		eval::CovarianceRow c;
 		c.stamp = row.estimate.stamps[i];
-		c.position = R * row.covariance[i].topLeftCorner<3, 3>() * R.transpose();
+		c.position = world_position_covariance(row.estimate.poses[i], row.covariance[i]);
 		c.pose = row.covariance[i];
 		cov.push_back(c);
 	}
