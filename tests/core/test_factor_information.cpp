@@ -38,6 +38,24 @@ LinearTestFactor make_factor()
 	return LinearTestFactor(A, Eigen::Vector3d(0.2, -0.7, 1.1));
 }
 
+/** The factor's residual and Jacobian at x, raw and whitened. */
+struct Evaluation
+{
+	Eigen::Vector3d r, rw;
+	RowMatrix J = RowMatrix(3, 2), Jw = RowMatrix(3, 2);
+};
+
+Evaluation evaluate_both(const swba::Factor& f, const double (&xv)[2])
+{
+	const double* x[1] = {xv};
+	Evaluation e;
+	double* jp[1] = {e.J.data()};
+	double* jwp[1] = {e.Jw.data()};
+	EXPECT_TRUE(f.evaluate(x, e.r.data(), jp));
+	EXPECT_TRUE(f.evaluate_whitened(x, e.rw.data(), jwp));
+	return e;
+}
+
 Eigen::Matrix3d spd_information()
 {
 	Eigen::Matrix3d B;
@@ -88,13 +106,7 @@ TEST(FactorInformation, WhiteningGivesMahalanobisNorm)
 	for (int trial = 0; trial < 10; trial++)
 	{
 		const double xv[2] = {g(rng), g(rng)};
-		const double* x[1] = {xv};
-		Eigen::Vector3d r, rw;
-		RowMatrix J(3, 2), Jw(3, 2);
-		double* jp[1] = {J.data()};
-		double* jwp[1] = {Jw.data()};
-		ASSERT_TRUE(f.evaluate(x, r.data(), jp));
-		ASSERT_TRUE(f.evaluate_whitened(x, rw.data(), jwp));
+		const auto [r, rw, J, Jw] = evaluate_both(f, xv);
 		const double mahalanobis = r.dot(Lambda * r);
 		EXPECT_NEAR(rw.squaredNorm(), mahalanobis, 1e-12 * mahalanobis);
 		// Whitened normal equations equal the weighted ones: JwᵀJw = JᵀΛJ, Jwᵀrw = JᵀΛr.
@@ -123,4 +135,25 @@ TEST(FactorInformation, SigmaAndSqrtInformation)
 	f.set_sqrt_information(W);
 	ASSERT_TRUE(f.evaluate_whitened(x, rw.data(), nullptr));
 	EXPECT_LE((rw - W * r).cwiseAbs().maxCoeff(), 1e-14);
+}
+
+// Whitening multiplies by each row's non-zero span only: lower and upper triangular, banded with a zero
+// inside the span, a zero row and a row whose only entry is in the last column all give W·r and W·J.
+TEST(FactorInformation, WhiteningOverEachRowsNonZeroSpanIsTheFullProduct)
+{
+	auto f = make_factor();
+	const double xv[2] = {0.7, -1.3};
+	Eigen::Matrix3d lower, upper, banded, zero_row, last_only;
+	lower << 2.0, 0.0, 0.0, -1.0, 3.0, 0.0, 0.5, 0.25, 1.5;
+	upper = lower.transpose();
+	banded << 1.0, 0.0, 2.0, 0.0, 3.0, 0.0, 4.0, 0.0, -1.0;
+	zero_row << 1.0, 2.0, 3.0, 0.0, 0.0, 0.0, 4.0, 5.0, 6.0;
+	last_only << 0.0, 0.0, 2.0, 1.0, 0.0, 0.0, 0.0, 3.0, 0.0;
+	for (const Eigen::Matrix3d& W : {lower, upper, banded, zero_row, last_only})
+	{
+		f.set_sqrt_information(W);
+		const Evaluation e = evaluate_both(f, xv);
+		EXPECT_LE((e.rw - W * e.r).cwiseAbs().maxCoeff(), 1e-14) << W;
+		EXPECT_LE((e.Jw - W * e.J).cwiseAbs().maxCoeff(), 1e-14) << W;
+	}
 }

@@ -2,6 +2,7 @@
 #include <swba/core/scratch.h>
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -30,20 +31,39 @@ void Factor::set_information(const Eigen::MatrixXd& information)
 	Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (information + information.transpose()));
 	if (llt.info() != Eigen::Success)
 		throw std::invalid_argument("Factor: information matrix is not positive definite");
-	sqrt_info_ = llt.matrixL().transpose();
+	store_sqrt_information(llt.matrixL().transpose());
 }
 
 void Factor::set_sqrt_information(const Eigen::MatrixXd& W)
 {
 	if (W.rows() != residual_dim_ || W.cols() != residual_dim_)
 		throw std::invalid_argument("Factor: square-root information has the wrong size");
-	sqrt_info_ = W;
+	store_sqrt_information(W);
 }
 
 void Factor::set_sigma(double sigma)
 {
 	if (!(sigma > 0)) throw std::invalid_argument("Factor: sigma must be > 0");
-	sqrt_info_ = Eigen::MatrixXd::Identity(residual_dim_, residual_dim_) / sigma;
+	store_sqrt_information(Eigen::MatrixXd::Identity(residual_dim_, residual_dim_) / sigma);
+}
+
+void Factor::store_sqrt_information(Eigen::MatrixXd W)
+{
+	sqrt_info_ = std::move(W);
+	const int m = residual_dim_;
+	row_span_.assign(2 * static_cast<std::size_t>(m), 0);
+	for (int i = 0; i < m; i++)
+	{
+		int first = m, last = -1;  // an all-zero row: first > last
+		for (int k = 0; k < m; k++)
+		{
+			if (sqrt_info_(i, k) == 0.0) continue;
+			first = std::min(first, k);
+			last = k;
+		}
+		row_span_[2 * i] = first;
+		row_span_[2 * i + 1] = last;
+	}
 }
 
 bool Factor::evaluate_whitened(const double* const* x, double* residual, double* const* jacobians) const
@@ -52,14 +72,21 @@ bool Factor::evaluate_whitened(const double* const* x, double* residual, double*
 	if (sqrt_info_.size() == 0) return true;
 	const int m = residual_dim_;
 	const double* W = sqrt_info_.data();  // column-major m×m
+	const int* span = row_span_.data();
 	// y ← W y for a strided column y of length m, through a stack copy (no heap temporaries: this
-	// runs per factor per evaluation). Sums are formed in column order k = 0..m−1.
+	// runs per factor per evaluation). Sums are formed in column order over each row's non-zero span;
+	// the zeros outside it would add only ±0 (for finite y).
 	auto whiten = [&](double* y, int stride, double* tmp) {
 		for (int k = 0; k < m; k++) tmp[k] = y[k * stride];
 		for (int i = 0; i < m; i++)
 		{
-			double acc = W[i] * tmp[0];
-			for (int k = 1; k < m; k++) acc += W[k * m + i] * tmp[k];
+			const int first = span[2 * i], last = span[2 * i + 1];
+			double acc = 0.0;
+			if (first <= last)
+			{
+				acc = W[first * m + i] * tmp[first];
+				for (int k = first + 1; k <= last; k++) acc += W[k * m + i] * tmp[k];
+			}
 			y[i * stride] = acc;
 		}
 	};

@@ -46,8 +46,13 @@ class Factor
 	bool evaluate_whitened(const double* const* x, double* residual, double* const* jacobians) const;
 
    private:
+	void store_sqrt_information(Eigen::MatrixXd W);
+
 	int residual_dim_;
 	std::vector<int> tangent_dims_;
 	Eigen::MatrixXd sqrt_info_;  // empty = identity
+	/// Per row i of W, the first and the last column with a non-zero entry (2i, 2i + 1): whitening
+	/// skips the zeros of a triangular or diagonal W, which are most of them.
+	std::vector<int> row_span_;
 };
 }  // namespace swba
