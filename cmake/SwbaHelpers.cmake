@@ -48,10 +48,10 @@ endif()
 
 # SWBA_PCH: the system headers most sources parse, precompiled once per target (a module's sources
 # share its flags), or once per group of targets whose flags are the same (the tests, the fuzz replays,
-# the libFuzzer harnesses) in a host target of its own that depends on nothing swba builds, so that no
-# target of a group waits for another. Only system headers; like the unity build it can hide a source's
-# missing system include, which the plain build (`./dev.sh run`, no unity, no SWBA_PCH) reports. The
-# header checks never use it.
+# the libFuzzer harnesses, the header checks) in a host target of its own that depends on nothing swba
+# builds, so that no target of a group waits for another. Only system headers; like the unity build it
+# can hide a source's or a header's missing system include, which the plain build (`./dev.sh run`, no
+# unity, no SWBA_PCH) reports.
 set(SWBA_PCH_HEADERS <algorithm> <array> <cmath> <cstdio> <fstream> <functional> <map> <memory> <set>
   <sstream> <stdexcept> <string> <vector> <Eigen/Core> <Eigen/Cholesky> <Eigen/Geometry>
   <mrpt/poses/CPose3D.h>)

@@ -1,10 +1,16 @@
-// TUM and MRPT ground-truth readers/writers: valid files, malformed files (file:line), edge cases.
+// TUM and MRPT ground-truth readers/writers: valid files, malformed files (file:line), edge cases;
+// the number formatting the writers use.
 #include <gtest/gtest.h>
 #include <swba/eval/alignment.h>
+#include <swba/eval/text_format.h>
 #include <swba/eval/trajectory.h>
 
 #include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
 #include <sstream>
+#include <vector>
 
 using namespace swba::eval;
 
@@ -162,4 +168,29 @@ TEST(MrptGroundTruth, WrongColumnCountNamesFileAndLine)
 		EXPECT_EQ(e.line, 3u);
 		EXPECT_EQ(std::string(e.what()).rfind("gt.txt:3: expected 6 columns", 0), 0u) << e.what();
 	}
+}
+
+TEST(TextFormat, AppendFixedAndScientificWriteWhatPrintfWrites)
+{
+	using limits = std::numeric_limits<double>;
+	std::vector<double> values = {0.0,	   -0.0,	  1.0,		 -1.0,		0.1,			   1.0 / 3.0,
+								  0.5,	   2.5,		  -2.5e-10,	 1e22,		123456.5,		   5e-324,
+								  1e-310,  1e100,	  -1e300,	 limits::max(), -limits::max(), limits::min(),
+								  limits::infinity(), -limits::infinity(), limits::quiet_NaN(), -limits::quiet_NaN()};
+	std::mt19937_64 rng(7);
+	std::uniform_real_distribution<double> mantissa(-10.0, 10.0);
+	std::uniform_int_distribution<int> exponent(-40, 40);
+	for (int i = 0; i < 2000; i++) values.push_back(std::ldexp(mantissa(rng), exponent(rng)));
+	char buf[512];
+	for (int precision : {0, 1, 6, 9, 17, 30})
+		for (double v : values)
+		{
+			std::string fixed = "x", scientific = "x";
+			append_fixed(fixed, v, precision);
+			append_scientific(scientific, v, precision);
+			std::snprintf(buf, sizeof(buf), "x%.*f", precision, v);
+			ASSERT_EQ(fixed, buf) << "precision " << precision;
+			std::snprintf(buf, sizeof(buf), "x%.*e", precision, v);
+			ASSERT_EQ(scientific, buf) << "precision " << precision;
+		}
 }

@@ -55,7 +55,11 @@ set_tests_properties(install.example_matches_swba_run PROPERTIES
 # (include guard) and nothing else, compiled against swba::<m> only (so a header that needs a
 # private dependency of its module, or another module's header its module does not depend on,
 # fails) with the project's warning flags. Part of the normal build (target swba_header_check).
+# With SWBA_PCH (the sanitizer build) they parse the precompiled system headers of their own host: a
+# header's missing system include is then the plain build's to report (`./dev.sh run`), a missing swba
+# include or module dependency still fails here.
 add_custom_target(swba_header_check ALL)
+swba_add_pch_host(swba_pch_header_checks)
 get_property(_swba_module_dirs GLOBAL PROPERTY SWBA_MODULE_INCLUDE_DIRS)
 foreach(_entry ${_swba_module_dirs})
   string(REPLACE "=" ";" _pair "${_entry}")
@@ -75,6 +79,7 @@ foreach(_entry ${_swba_module_dirs})
     add_library(swba_header_check_${_module} OBJECT ${_tus})
     set_target_properties(swba_header_check_${_module} PROPERTIES UNITY_BUILD OFF)  # one header per TU
     target_link_libraries(swba_header_check_${_module} PRIVATE swba::${_module} swba_build_flags)
+    swba_target_pch(swba_header_check_${_module} REUSE_FROM swba_pch_header_checks)
     add_dependencies(swba_header_check swba_header_check_${_module})
   endif()
 endforeach()

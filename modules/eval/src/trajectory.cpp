@@ -132,17 +132,21 @@ void write_tum(std::ostream& out, const Trajectory& trajectory, int decimals)
 {
 	if (trajectory.stamps.size() != trajectory.poses.size())
 		throw std::invalid_argument("write_tum: stamps and poses differ in size");
-	char buf[512];
+	std::string line;
 	for (std::size_t i = 0; i < trajectory.size(); i++)
 	{
 		const auto& p = trajectory.poses[i];
 		mrpt::math::CQuaternionDouble q;
 		p.getAsQuaternion(q);
-		double sgn = q.r() < 0 ? -1.0 : 1.0;
-		std::snprintf(buf, sizeof(buf), "%.*f %.*f %.*f %.*f %.*f %.*f %.*f %.*f\n", decimals,
-					  trajectory.stamps[i], decimals, p.x(), decimals, p.y(), decimals, p.z(), decimals,
-					  sgn * q.x(), decimals, sgn * q.y(), decimals, sgn * q.z(), decimals, sgn * q.r());
-		out << buf;
+		const double sgn = q.r() < 0 ? -1.0 : 1.0;
+		line.clear();
+		for (double v : {trajectory.stamps[i], p.x(), p.y(), p.z(), sgn * q.x(), sgn * q.y(), sgn * q.z(), sgn * q.r()})
+		{
+			if (!line.empty()) line += ' ';
+			append_fixed(line, v, decimals);
+		}
+		line += '\n';
+		out << line;
 	}
 }
 

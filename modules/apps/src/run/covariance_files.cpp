@@ -1,7 +1,8 @@
 #include "covariance_files.h"
 
-#include <cstdio>
-#include <sstream>
+#include <swba/eval/text_format.h>
+
+#include <string>
 
 namespace swba::apps
 {
@@ -9,14 +10,13 @@ namespace
 {
 /** The upper triangle of `m` row by row, each entry with a leading space. */
 template <class M>
-void upper_triangle(std::ostringstream& s, const M& m)
+void upper_triangle(std::string& s, const M& m)
 {
-	char buf[32];
 	for (Eigen::Index i = 0; i < m.rows(); i++)
 		for (Eigen::Index j = i; j < m.cols(); j++)
 		{
-			std::snprintf(buf, sizeof(buf), " %.9e", m(i, j));
-			s << buf;
+			s += ' ';
+			eval::append_scientific(s, m(i, j), 9);
 		}
 }
 }  // namespace
@@ -29,34 +29,34 @@ Eigen::Matrix3d world_position_covariance(const mrpt::poses::CPose3D& pose, cons
 
 std::string format_pose_covariances(const RunRow& row)
 {
-	std::ostringstream s;
-	char buf[64];
+	std::string s;
 	for (std::size_t i = 0; i < row.covariance.size() && i < row.estimate.size(); i++)
 	{
 		const estimators::PoseCovariance& c = row.covariance[i];
 		const Eigen::Matrix3d position = world_position_covariance(row.estimate.poses[i], c);
-		std::snprintf(buf, sizeof(buf), "%.9f", row.estimate.stamps[i]);  // as the TUM file
-		s << buf;
+		eval::append_fixed(s, row.estimate.stamps[i], 9);  // as the TUM file
 		upper_triangle(s, position);
 		upper_triangle(s, c);
-		s << "\n";
+		s += '\n';
 	}
-	return s.str();
+	return s;
 }
 
 std::string format_landmark_covariances(const RunRow& row)
 {
-	std::ostringstream s;
-	char buf[96];
+	std::string s;
 	for (const auto& [id, l] : row.landmarks)
 	{
-		std::snprintf(buf, sizeof(buf), "%d %.9f %.9f %.9f", static_cast<int>(id), l.position.x(), l.position.y(),
-					  l.position.z());
-		s << buf;
+		s += std::to_string(static_cast<int>(id));
+		for (double v : {l.position.x(), l.position.y(), l.position.z()})
+		{
+			s += ' ';
+			eval::append_fixed(s, v, 9);
+		}
 		upper_triangle(s, l.covariance);
-		s << "\n";
+		s += '\n';
 	}
-	return s.str();
+	return s;
 }
 
 std::pair<std::string, std::string> covariance_file_names(const std::string& tum_file)
