@@ -64,8 +64,9 @@ test_release() {
 }
 # ASan keeps freed blocks in a quarantine (256 MB by default) before reusing them, so that a use after
 # free finds poisoned memory; with it the allocator keeps touching fresh pages, which cost a sanitized
-# `swba run` a quarter of its time (page faults, memsets). 32 MB still catches a use within 32 MB of
-# frees of the free (doc/benchmarks/ci.md); scripts/fuzz-campaign.sh keeps the default.
+# `swba run` a quarter of its time (page faults, memsets). 32 MB still catches a use after free unless
+# more than 32 MB of other blocks were freed in between (doc/benchmarks/ci.md); scripts/fuzz-campaign.sh
+# keeps the default.
 test_asan() {
 	build_asan
 	ASAN_OPTIONS=detect_leaks=1:quarantine_size_mb=32 LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0" \

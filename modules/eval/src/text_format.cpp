@@ -30,7 +30,7 @@ void append_to_chars(std::string& out, double v, std::chars_format format, int p
 		out.append(buf, end);
 		return;
 	}
-	// Longer than the buffer (|v| ≥ 1e100 in fixed notation, or a large precision): printf's own length.
+	// Longer than the buffer (a large |v| in fixed notation, or a large precision): printf's own length.
 	const int n = std::snprintf(nullptr, 0, printf_format, precision, v);
 	std::string s(static_cast<std::size_t>(n) + 1, '\0');
 	std::snprintf(s.data(), s.size(), printf_format, precision, v);
