@@ -3,7 +3,6 @@
 #include <swba/core/lie.h>
 #include <swba/factors/pose_prior.h>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <cmath>
 #include <stdexcept>
@@ -87,18 +86,12 @@ Eigen::Matrix<double, 6, 6> tilt_prior_sqrt_information(const Eigen::Matrix3d& R
 	return W;
 }
 
-void InertialGaugeSnapshot::add(VariableId T, const double* pose)
-{
-	ids.push_back(T);
-	poses.emplace_back(pose, pose + SE3Manifold::kAmbient);
-}
-
-std::shared_ptr<Factor> inertial_gauge_anchor(const InertialGaugeSnapshot& at)
+std::shared_ptr<Factor> inertial_gauge_anchor(const InertialGaugeReference& at)
 {
 	// Stiff, so that LM cannot move the four directions; the value does not matter otherwise, since the
 	// rest of the window has no information along them (the residual stays at zero).
 	constexpr double kSigma = 1e-6;
-	const double* Z = at.poses.front().data();
+	const double* Z = at.pose.data();
 	const Eigen::Matrix3d R_Z = se3_view(Z).leftCols<3>();
 	// The residual is [R_Zᵀ(p − p_Z), ω] in Z's body frame: R_Z maps both to the world's axes.
 	Eigen::Matrix<double, 6, 6> W = Eigen::Matrix<double, 6, 6>::Zero();
@@ -109,40 +102,23 @@ std::shared_ptr<Factor> inertial_gauge_anchor(const InertialGaugeSnapshot& at)
 	return f;
 }
 
-void hold_inertial_gauge(Problem& problem, const InertialGaugeSnapshot& before,
+void hold_inertial_gauge(Problem& problem, const InertialGaugeReference& at,
 						 const std::vector<std::pair<VariableId, VariableId>>& window)
 {
-	// Gauge directions at a pose (right perturbation [ρ, ω]), columns [u_x, u_y, u_z, w]:
-	// p ↦ p + u + w e_z × p, R ↦ Exp(w e_z) R. A velocity's rotation is not used: it also moves by real
-	// corrections of its direction in the body, which would leak into w.
-	Eigen::Matrix4d A = Eigen::Matrix4d::Zero();
-	Eigen::Vector4d g = Eigen::Vector4d::Zero();
-	const Eigen::Vector3d ez = Eigen::Vector3d::UnitZ();
-	for (std::size_t i = 0; i < before.ids.size(); i++)
-	{
-		const auto T0 = se3_view(before.poses[i].data());
-		const Eigen::Matrix3d Rt = T0.leftCols<3>().transpose();
-		Eigen::Matrix<double, 6, 4> N = Eigen::Matrix<double, 6, 4>::Zero();
-		N.block<3, 3>(0, 0) = Rt;
-		N.block<3, 1>(0, 3) = Rt * ez.cross(Eigen::Vector3d(T0.col(3)));
-		N.block<3, 1>(3, 3) = Rt * ez;
-		Eigen::Matrix<double, 6, 1> d;
-		SE3Manifold::instance()->minus(problem.value(before.ids[i]), before.poses[i].data(), d.data());
-		A += N.transpose() * N;
-		g += N.transpose() * d;
-	}
-	Eigen::LDLT<Eigen::Matrix4d> ldlt(A);
-	if (before.ids.empty() || ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) return;
-	const Eigen::Vector4d xi = ldlt.solve(g);
-	const Eigen::Matrix3d R = rz(-xi[3]);
+	if (at.id < 0) return;
+	const mrpt::poses::CPose3D was = SE3Manifold::to_pose(at.pose.data()),
+							   now = SE3Manifold::to_pose(problem.value(at.id));
+	const Eigen::Matrix3d R = rz(-wrapped(now.yaw() - was.yaw()));
+	const Eigen::Vector3d u = R * Eigen::Vector3d(now.x(), now.y(), now.z()) - Eigen::Vector3d(was.x(), was.y(), was.z());
 	for (const auto& [Tid, vid] : window)
 	{
 		if (problem.variable(Tid).constant) continue;
 		std::vector<double> x(problem.value(Tid), problem.value(Tid) + SE3Manifold::kAmbient);
 		auto T = se3_view(x.data());
 		T.leftCols<3>() = R * T.leftCols<3>().eval();
-		T.col(3) = R * T.col(3).eval() - xi.head<3>();
+		T.col(3) = R * T.col(3).eval() - u;
 		problem.set_value(Tid, x.data());
+		if (vid < 0) continue;
 		const Eigen::Vector3d v = R * Eigen::Map<const Eigen::Vector3d>(problem.value(vid));
 		problem.set_value(vid, v.data());
 	}

@@ -3,8 +3,8 @@
  * translation (x, y, z) and the rotation about the vertical (yaw) unobservable; gravity observes roll and
  * pitch. The fixed gauge makes those four directions of the first keyframe's pose constant (TiltManifold,
  * with TiltFactor for the factors on it); the free gauge gives them no information, picks the frame of
- * each solve by anchoring them on the marginal prior's keyframe (inertial_gauge_anchor) and undoes what
- * motion is left after it (hold_inertial_gauge). */
+ * each solve by anchoring them on the first keyframe's pose, which the window keeps in the model as its
+ * reference (inertial_gauge_anchor), and undoes what motion is left after it (hold_inertial_gauge). */
 #pragma once
 
 #include <swba/core/factor.h>
@@ -50,24 +50,23 @@ class TiltFactor final : public Factor
  * each with σ `tilt_sigma`: the gauge directions carry no information. */
 Eigen::Matrix<double, 6, 6> tilt_prior_sqrt_information(const Eigen::Matrix3d& R_Z, double tilt_sigma);
 
-/** The reference of the free gauge: poses at the values the window's frame is held to. */
-struct InertialGaugeSnapshot
+/** The free gauge's reference: the pose the window's frame is held to, at the value it is held at. */
+struct InertialGaugeReference
 {
-	std::vector<VariableId> ids;
-	std::vector<std::vector<double>> poses;
-	void add(VariableId T, const double* pose);
+	VariableId id = -1;		   ///< −1: no free gauge
+	std::vector<double> pose;  ///< SE3Manifold ambient value
 };
 
-/** A PosePriorFactor at the snapshot's first pose that weighs only its world position and its rotation
- * about the world's z (σ 1e-6 m, rad): it picks the frame of the solve without informing anything else
- * (the free gauge's marginal prior has no information along those four directions). */
-std::shared_ptr<Factor> inertial_gauge_anchor(const InertialGaugeSnapshot& at);
+/** A PosePriorFactor at the reference's pose that weighs only its world position and its rotation about the
+ * world's z (σ 1e-6 m, rad): it keeps LM from sliding along the four directions without informing anything
+ * else (the free gauge's linear systems have no information along them). */
+std::shared_ptr<Factor> inertial_gauge_anchor(const InertialGaugeReference& at);
 
-/** Fits the motion [u (world translation), w (yaw about the world's z)] that best explains the
- * displacement of the snapshot's poses from their values there (least squares in their tangent
- * coordinates: position and rotation, never a velocity, whose direction in the body is observable) and
- * undoes it on every pose and velocity of `window`: p ← Rz(−w)p − u, R ← Rz(−w)R, v ← Rz(−w)v. Every
- * factor of the window is invariant under it. */
-void hold_inertial_gauge(Problem& problem, const InertialGaugeSnapshot& before,
+/** Moves every pose and velocity of `window` (a velocity id < 0: a pose without one) by the four-DoF motion
+ * [u, w] (a world translation u and a rotation by w about the world's z) that brings the reference pose back
+ * to its position and its yaw in `at` (MRPT's ZYX yaw, the angle the fixed gauge holds: a rotation about z
+ * on the left adds to it exactly): p ← Rz(−w)p − u, R ← Rz(−w)R, v ← Rz(−w)v. Every factor of the window is
+ * invariant under it. */
+void hold_inertial_gauge(Problem& problem, const InertialGaugeReference& at,
 						 const std::vector<std::pair<VariableId, VariableId>>& window);
 }  // namespace swba::estimators::detail

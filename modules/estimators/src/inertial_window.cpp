@@ -113,7 +113,7 @@ class InertialGraph : smoother::SmootherClient
 	void record_all(InertialTrajectory& out) const;
 	Summary solve(const SolverOptions& s)
 	{
-		const detail::InertialGaugeSnapshot before = gauge_snapshot();
+		const detail::InertialGaugeReference before = gauge_reference();
 		anchor_gauge(before);
 		const Summary r = swba::solve(sm_.problem(), s);
 		hold_gauge(before);
@@ -154,11 +154,11 @@ class InertialGraph : smoother::SmootherClient
 	FactorId add_factor(std::shared_ptr<const Factor> f, const std::vector<VariableId>& vars);
 	/** The first keyframe's pose: on TiltManifold under the fixed four-DoF gauge. */
 	VariableId add_first_pose(const NavState& x);
-	detail::InertialGaugeSnapshot gauge_snapshot() const;
+	detail::InertialGaugeReference gauge_reference() const;
 	/** Anchors the four directions on `before` for the next solve (free gauge only). */
-	void anchor_gauge(const detail::InertialGaugeSnapshot& before);
+	void anchor_gauge(const detail::InertialGaugeReference& before);
 	/** Removes the anchor and undoes the four-DoF motion since `before` (free gauge only). */
-	void hold_gauge(const detail::InertialGaugeSnapshot& before);
+	void hold_gauge(const detail::InertialGaugeReference& before);
 	void record(InertialTrajectory& out, const Kf& k, const Matrix6d& covariance) const;
 	/** A covariance block of k's pose in the SE(3) tangent (6×6, or 2×2 on the fixed gauge's TiltManifold). */
 	Matrix6d pose_covariance(const Kf& k, const Eigen::MatrixXd& block) const;
@@ -174,7 +174,7 @@ class InertialGraph : smoother::SmootherClient
 	void marginalized(const smoother::TimedState&, const smoother::MarginalizationSummary&) override;
 	InertialTrajectory* online_ = nullptr;
 	InertialTrajectory* lagged_ = nullptr;
-	detail::InertialGaugeSnapshot before_;  ///< the gauge directions before this update's solve
+	detail::InertialGaugeReference before_;  ///< the free gauge's reference before this update's solve
 	FactorId anchor_ = -1;					 ///< the free gauge's anchor during a solve
 
 	InertialWindowOptions o_;
@@ -184,6 +184,7 @@ class InertialGraph : smoother::SmootherClient
 	std::size_t cursor_ = 0;
 	GaugeMode gauge_ = GaugeMode::Prior;  ///< o_.gauge without pose priors, else Prior (the priors fix the frame)
 	VariableId tilt_pose_ = -1;			  ///< the fixed gauge's first pose
+	VariableId reference_ = -1;			  ///< the free gauge's frame: the first pose, never marginalised
 };
 
 NavState InertialGraph::nav(const Kf& k) const
@@ -210,7 +211,11 @@ void InertialGraph::add_first(const InertialInitialState& init, const KeyframeDa
 	if (!k.prior) gauge_ = o_.gauge;
 	Kf kf{k.t, add_first_pose(init.x), p.add_variable(Eigen::VectorXd(init.x.v), euclidean_manifold(3)),
 		  p.add_variable(Eigen::VectorXd(init.bias), euclidean_manifold(6)), -1, nullptr};
-	sm_.add_state(k.t, kf.T);
+	// The free gauge's frame is the first keyframe's: its pose stays in the model when the keyframe leaves
+	// (its velocity is the state the smoother marginalises), so that the prior keeps every later keyframe's
+	// relation to it. It adds no information along the four directions: every factor is invariant there.
+	if (gauge_ == GaugeMode::Free) reference_ = kf.T;
+	sm_.add_state(k.t, gauge_ == GaugeMode::Free ? kf.v : kf.T);
 	if (k.prior)
 		add_pose_prior(kf, k.prior->pose, k.prior->covariance);
 	else if (gauge_ != GaugeMode::Prior)
@@ -286,32 +291,34 @@ VariableId InertialGraph::add_first_pose(const NavState& x)
 	return tilt_pose_;
 }
 
-detail::InertialGaugeSnapshot InertialGraph::gauge_snapshot() const
+detail::InertialGaugeReference InertialGraph::gauge_reference() const
 {
-	// The frame is the marginal prior's: its keyframes at their first estimates, where the prior's null
-	// space is the gauge; before anything is marginalised, the first keyframe as it is.
-	detail::InertialGaugeSnapshot s;
-	if (gauge_ != GaugeMode::Free || kfs_.empty()) return s;
-	for (const Kf& k : kfs_)
-		if (sm_.in_prior(k.T)) s.add(k.T, sm_.linearization_point(k.T));
-	if (s.ids.empty()) s.add(kfs_.front().T, sm_.problem().value(kfs_.front().T));
-	return s;
+	// The reference pose at its first estimate, where the prior's null space is the gauge (its current
+	// value until the first marginalisation freezes it).
+	detail::InertialGaugeReference r;
+	if (gauge_ != GaugeMode::Free || reference_ < 0) return r;
+	const VariableId id = reference_;
+	const double* x = sm_.linearization_point(id);
+	r.id = id;
+	r.pose.assign(x, x + SE3Manifold::kAmbient);
+	return r;
 }
 
-void InertialGraph::anchor_gauge(const detail::InertialGaugeSnapshot& before)
+void InertialGraph::anchor_gauge(const detail::InertialGaugeReference& before)
 {
-	if (gauge_ != GaugeMode::Free || before.ids.empty()) return;
+	if (before.id < 0) return;
 	// Straight into the problem, not through the smoother's add_factor: it is no measurement, it is removed
 	// (hold_gauge) before anything is marginalised, and its Jacobian at its own Z needs no first estimate.
-	anchor_ = sm_.problem().add_factor(detail::inertial_gauge_anchor(before), {before.ids.front()});
+	anchor_ = sm_.problem().add_factor(detail::inertial_gauge_anchor(before), {before.id});
 }
 
-void InertialGraph::hold_gauge(const detail::InertialGaugeSnapshot& before)
+void InertialGraph::hold_gauge(const detail::InertialGaugeReference& before)
 {
 	if (gauge_ != GaugeMode::Free) return;
 	if (anchor_ >= 0) sm_.problem().remove_factor(anchor_);
 	anchor_ = -1;
 	std::vector<std::pair<VariableId, VariableId>> window;
+	if (kfs_.empty() || kfs_.front().T != reference_) window.push_back({reference_, -1});  // its keyframe left
 	for (const Kf& k : kfs_) window.push_back({k.T, k.v});
 	detail::hold_inertial_gauge(sm_.problem(), before, window);
 }
@@ -332,7 +339,7 @@ void InertialGraph::update(InertialTrajectory& online, InertialTrajectory& lagge
 	if (o_.covariances && gauge_ != GaugeMode::Free) request.groups.push_back({kfs_.back().T});
 	online_ = &online;
 	lagged_ = &lagged;
-	before_ = gauge_snapshot();
+	before_ = gauge_reference();
 	anchor_gauge(before_);
 	sm_.update(*this, request);
 }
