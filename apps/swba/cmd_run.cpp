@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <csignal>
+#include <ctime>
 #include <iostream>
 
 #include "cli.h"
@@ -14,16 +15,34 @@ namespace swba::app
 namespace
 {
 volatile std::sig_atomic_t g_signal = 0;
-extern "C" void on_stop_signal(int sig) { g_signal = sig; }
+timespec g_first_signal = {};  // when g_signal was set; written only by the handler
 
-/** SIGINT / SIGTERM ask the run to stop after the current step (a second one kills it: SA_RESETHAND):
- * what is complete is kept, the rest marked interrupted, and the exit code is 128 + the signal. */
+/** The first SIGINT / SIGTERM asks the run to stop after the current step; one that comes at least 0.5 s
+ * later kills it (the default action). A repeat within 0.5 s is the same request delivered twice: GNU
+ * timeout and GNU parallel signal both the process and its process group. */
+extern "C" void on_stop_signal(int sig)
+{
+	timespec now{};
+	clock_gettime(CLOCK_MONOTONIC, &now);  // async-signal-safe, as are signal() and raise()
+	if (g_signal == 0)
+	{
+		g_first_signal = now;
+		g_signal = sig;
+		return;
+	}
+	const double since = double(now.tv_sec - g_first_signal.tv_sec) + 1e-9 * double(now.tv_nsec - g_first_signal.tv_nsec);
+	if (since < 0.5) return;
+	std::signal(sig, SIG_DFL);
+	std::raise(sig);  // delivered when the handler returns
+}
+
+/** What is complete is kept, the rest marked interrupted, and the exit code is 128 + the signal. */
 void install_stop_handlers()
 {
 	struct sigaction sa = {};
 	sa.sa_handler = on_stop_signal;
 	sigemptyset(&sa.sa_mask);
-	sa.sa_flags = SA_RESETHAND;
+	sa.sa_flags = 0;
 	sigaction(SIGINT, &sa, nullptr);
 	sigaction(SIGTERM, &sa, nullptr);
 }

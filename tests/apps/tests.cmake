@@ -129,6 +129,8 @@ function(swba_cli_case name rc)
 endfunction()
 swba_cli_case(version_option 0 REGEX "^swba [0-9]+\\.[0-9]+\\.[0-9]+ \\(MRPT [0-9.]+, Eigen [0-9.]+; rank-update kernel [a-z0-9]+\\)" ARGS --version)
 swba_cli_case(help_command 0 REGEX "swba run +\\[<RAWLOG>\\] \\[--gt <FILE>\\]" ARGS help run)
+swba_cli_case(simulate_imu_too_long 2 REGEX "^swba simulate-imu: error: duration x imu_rate = 1e\\+11 IMU readings, more than 1e7"
+  ARGS simulate-imu --duration 1e9 --out ${_out}/simulate_imu_too_long)
 swba_cli_case(unknown_option 2 REGEX "^swba run: error: unknown option '--bogus' \\(see --help\\)" ARGS run --bogus)
 swba_cli_case(unknown_short_option 2 REGEX "^swba ape: error: unknown option '-x'" ARGS ape -x a b)
 swba_cli_case(switch_given_a_value 2 REGEX "error: option '--no-ekf' takes no value" ARGS run --no-ekf=1)
@@ -199,6 +201,10 @@ foreach(_sig_rc INT:130 TERM:143)
   set_tests_properties(runapp.e2e.interrupted_by_sig${_sig} PROPERTIES PASS_REGULAR_EXPRESSION "OK: exit ${_rc}"
     TIMEOUT 120)
 endforeach()
+add_test(NAME runapp.e2e.interrupted_by_sigTERM_twice
+  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/interrupt.sh $<TARGET_FILE:swba> ${_out}/interrupted_twice TERM 143 twice)
+set_tests_properties(runapp.e2e.interrupted_by_sigTERM_twice PROPERTIES PASS_REGULAR_EXPRESSION "OK: exit 143"
+  TIMEOUT 120)
 # -q is --quiet in every solver command that documents it (doc/cli.md).
 foreach(_c bal pgo directba)
   swba_cli_case(quiet_short_form_${_c} 0 REGEX "-q, +--quiet" ARGS ${_c} --help)

@@ -4,6 +4,7 @@
 #include <swba/core/manifold.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <stdexcept>
 
@@ -111,6 +112,16 @@ void InertialSimulationOptions::validate() const
 	};
 	positive(duration, "duration");
 	positive(imu_rate, "imu_rate");
+	// The data set is held in memory (truth and reading per IMU time, a few hundred bytes each).
+	constexpr double kMaxImuReadings = 1e7;
+	if (duration * imu_rate > kMaxImuReadings)
+	{
+		char n[32];
+		std::snprintf(n, sizeof n, "%.3g", duration * imu_rate);
+		throw std::invalid_argument(std::string("duration x imu_rate = ") + n +
+									" IMU readings, more than 1e7 (about 28 h at 100 Hz): simulate a longer run as "
+									"several logs");
+	}
 	auto divides = [this](double rate, const char* name) {
 		if (!(std::isfinite(rate) && rate >= 0)) throw std::invalid_argument(std::string(name) + " must be >= 0");
 		if (rate == 0) return;

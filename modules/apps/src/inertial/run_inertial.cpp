@@ -1,5 +1,6 @@
 #include <swba/apps/inertial_run.h>
 
+#include "../run/output_dir.h"
 #include "../run/plots.h"
 
 #include <swba/core/chi2.h>
@@ -239,6 +240,22 @@ void write_inertial_plots(const RunOptions& o, const eval::Trajectory& gt, RunRe
 	files.insert(files.end(), rep.files.begin(), rep.files.end());
 	for (const auto& n : rep.notes) log << "note: " << n << "\n";
 }
+/** The options given that an inertial rawlog has no use for (range-bearing and MRPT-EKF options that
+ * differ from their defaults), by their command-line names. */
+std::vector<std::string> inertial_ignored_options(const RunOptions& o)
+{
+	const RunOptions d;
+	std::vector<std::string> out;
+	if (o.max_steps != d.max_steps) out.push_back("--max-steps");
+	if (o.run_ekf != d.run_ekf) out.push_back("--no-ekf");
+	if (o.ekf_methods != d.ekf_methods) out.push_back("--ekf-method");
+	if (!o.ekf_ini.empty()) out.push_back("[ekf] ini_file");
+	if (o.policies != d.policies) out.push_back("--policy");
+	if (o.fej != d.fej) out.push_back("--fej");
+	if (!o.association_truth.empty()) out.push_back("--association-truth");
+	return out;
+}
+
 }  // namespace
 
 std::string inertial_ground_truth_path(const RunOptions& o)
@@ -262,13 +279,18 @@ RunReport run_inertial_app(const RunOptions& o, std::ostream& out, std::ostream&
 	log << "swba run: inertial rawlog " << o.rawlog << ": " << in.imu.size() << " IMU readings, " << in.pose_priors.size()
 		<< " pose priors, " << in.odometry.size() << " odometry poses; ground truth: "
 		<< (rep.ground_truth.empty() ? "none" : rep.ground_truth) << "\n";
-	fs::create_directories(o.out_dir);
+	const std::vector<std::string> ignored = inertial_ignored_options(o);
+	for (std::size_t i = 0; i < ignored.size(); i++)
+		log << (i == 0 ? "swba run: warning: not used on an inertial rawlog (doc/inertial.md), ignored: " : ", ")
+			<< ignored[i] << (i + 1 == ignored.size() ? "\n" : "");
+	prepare_output_directory(o.out_dir, "swba run", log);
 	Rows r;
 	run_rows(o, in, gt, r, log);
 	const std::string table = format_table(r);
 	rep.rows = r.rows;
 	write_outputs(o, rep, r, table, rep.files);
 	if (o.plots && !gt.empty()) write_inertial_plots(o, gt, rep, rep.files, log);
+	write_run_manifest(o.out_dir, rep.files);
 	out << table << std::flush;
 	log << "swba run: wrote " << rep.files.size() << " files into " << o.out_dir << "/\n";
 	return rep;
