@@ -61,6 +61,7 @@ swba::apps::BalAppOptions options_from(BalCommandLine& a)
 	o.solver.linear_solver = swba::parse_linear_solver(ls);
 	if (o.solver.num_threads < 1) throw UsageError("--threads must be >= 1");
 	if (o.solver.max_iterations < 0) throw UsageError("--max-iterations must be >= 0");
+	if (!(o.loss_scale > 0)) throw UsageError("--loss-scale must be > 0");
 	swba::app::validate_usage(o.solver);
 	o.loss = swba::parse_enum<swba::RobustLoss>(a.loss.getValue(), "loss");
 	return o;

@@ -63,6 +63,8 @@ swba::apps::DirectBAAppOptions options_from(DirectbaCommandLine& a)
 	o.synthetic = a.synthetic.getValue();
 	o.dataset_dir = a.dir.getValue();
 	if (o.synthetic && !o.dataset_dir.empty()) throw UsageError("--synthetic takes no DIR");
+	if (o.synthetic && (a.ply_initial.isSet() || a.ply_final.isSet() || a.out_dir.isSet()))
+		throw UsageError("--synthetic writes no files: --ply-initial, --ply-final and --out go with a DIR");
 	if (!o.synthetic && o.dataset_dir.empty()) throw UsageError("missing DIR (or use --synthetic)");
 	if (a.fixed_cameras.isSet()) o.scene.fixed_cameras = opt.fixed_cameras = a.fixed_cameras.getValue();
 	o.ply_initial = a.ply_initial.getValue();

@@ -23,7 +23,7 @@ int run_jobs(int argc, char** argv)
 {
 	TCLAP::CmdLine cmd(
 		"Writes a sweep of swba run as independent jobs: one shell command per line of DIR/jobs.txt, one job per "
-		"rawlog (or simulated rawlog, one per seed) and window size W; the first W of each rawlog also runs the EKF "
+		"rawlog (or simulated rawlog, one per seed) and window size W; the widest W of each rawlog also runs the EKF "
 		"and the batch. Run them with GNU parallel (parallel -j 2 --joblog DIR/joblog --bar < DIR/jobs.txt; "
 		"--sshlogin for other machines) or as a Slurm job array (sbatch DIR/jobs.sbatch), then swba merge DIR "
 		"writes the tables and plots one swba run writes, with the same figures. Options of the runs: --config.",

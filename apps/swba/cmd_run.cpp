@@ -6,6 +6,7 @@
 #include <csignal>
 #include <ctime>
 #include <iostream>
+#include <stdexcept>
 
 #include "cli.h"
 #include "command.h"
@@ -88,7 +89,7 @@ struct RunCommandLine
 		"also run the full-history causal optimum (online W=inf: re-solve the whole history after every step; O(steps^2))",
 		cmd};
 	OverrideArg<std::string> ekf_method{"ekf-method", "NAME,...", "kfEKFAlaDavison,kfEKFNaive",
-		"MRPT EKF methods, comma-separated: kfEKFNaive, kfEKFAlaDavison, kfIKFFull, kfIKF", cmd};
+		"MRPT EKF methods, comma-separated: kfEKFNaive, kfEKFAlaDavison, kfIKFFull", cmd};
 	OverrideArg<std::string> policy{"policy", "P", "slam",
 		"landmark policy of the window: slam, constant-time, map, a comma-separated list, both or all", cmd};
 	OverrideArg<std::string> fej{"fej", "on|off|both", "on", "first-estimate Jacobians: on, off or both", cmd};
@@ -202,6 +203,17 @@ int run_run(int argc, char** argv)
 	}
 	catch (const std::invalid_argument& e)
 	{
+		// Options that exclude each other within the file alone are the file's error (exit 1), named.
+		apps::RunOptions from_file;
+		if (cl.config.isSet()) apps::load_run_config(cl.config.getValue(), from_file);
+		try
+		{
+			if (cl.config.isSet()) from_file.validate();
+		}
+		catch (const std::invalid_argument& in_file)
+		{
+			throw std::runtime_error("config '" + cl.config.getValue() + "': " + in_file.what());
+		}
 		throw UsageError(e.what());
 	}
 	if (o.rawlog.empty()) o.rawlog = std::string(SWBA_DEFAULT_DATASETS) + "/kf-slam_6D_demo.rawlog";

@@ -42,7 +42,7 @@ std::string non_default_ini()
 		   "association = nn\nreassociate = false\nyoung_landmark_readings = 5\nyoung_readings_test = false\n"
 		   "[solver]\nmax_iterations = 4\nfunction_tolerance = 0.5\ngradient_tolerance = 0.25\n"
 		   "parameter_tolerance = 0.125\nlinear_solver = dense-normal\ndense_max_dim = 9\nthreads = 2\n"
-		   "[ekf]\nenabled = false\nmethods = kfIKF\nini_file = x.ini\n"
+		   "[ekf]\nenabled = false\nmethods = kfIKFFull\nini_file = x.ini\n"
 		   "[sensor]\nstd_range_m = 0.5\nstd_yaw_deg = 2\nstd_pitch_deg = 3\n"
 		   "[odometry]\nmin_sigma_translation_m = 0.5\nmin_sigma_rotation_rad = 0.25\n"
 		   "[sensors]\nimu = XSENS\npose_prior = MAP\nodometry = LIDAR\n"
@@ -67,7 +67,7 @@ TEST(RunConfig, NonDefaultIniSetsEveryKey)
 	EXPECT_EQ(o.max_steps, 7u);
 	EXPECT_FALSE(o.run_batch);
 	EXPECT_TRUE(o.run_causal);
-	EXPECT_EQ(o.ekf_methods, std::vector<std::string>{"kfIKF"});
+	EXPECT_EQ(o.ekf_methods, std::vector<std::string>{"kfIKFFull"});
 	EXPECT_EQ(o.window.solver.max_iterations, 4);
 	EXPECT_EQ(o.window.solver.num_threads, 2);
 	EXPECT_NEAR(o.window.sensor.std_yaw, 2.0 * M_PI / 180.0, 1e-15);
@@ -154,6 +154,7 @@ TEST(RunConfig, BadValuesNameTheKey)
 			 {"[window]\ngauge = loose\n", "[window] gauge: unknown gauge 'loose'"},
 			 {"[run]\nbatch = perhaps\n", "[run] batch: 'perhaps' is not a boolean"},
 			 {"[ekf]\nmethods = kfEKFNaive,kfFoo\n", "[ekf] methods: unknown EKF method 'kfFoo'"},
+			 {"[ekf]\nmethods = kfIKF\n", "[ekf] methods: EKF method 'kfIKF' is not implemented by MRPT"},
 			 {"[sensor]\nstd_range_m = -1\n", "[sensor] std_range_m: '-1' must be >= 0"},
 			 {"[sensor]\nstd_yaw_deg = nan\n", "[sensor] std_yaw_deg: 'nan' is not finite"},
 			 {"[solver]\nlinear_solver = magic\n", "[solver] linear_solver:"},
@@ -161,6 +162,7 @@ TEST(RunConfig, BadValuesNameTheKey)
 			 {"[window]\nrobust_loss = tukey\n", "[window] robust_loss: unknown robust loss 'tukey'"},
 			 {"[inertial]\nkeyframes = every\n", "[inertial] keyframes: unknown keyframe times 'every'"},
 			 {"[inertial]\nreintegrate_gyro = 0\n", "[inertial] reintegrate_gyro: '0' must be > 0"},
+			 {"# sizes\n[window]\nsizes 10\n", ":3: 'sizes 10' is neither a [section], a key = value line nor a comment"},
 		 })
 	{
 		const std::string msg = load_error(c.ini);

@@ -129,6 +129,27 @@ function(swba_cli_case name rc)
 endfunction()
 swba_cli_case(version_option 0 REGEX "^swba [0-9]+\\.[0-9]+\\.[0-9]+ \\(MRPT [0-9.]+, Eigen [0-9.]+; rank-update kernel [a-z0-9]+\\)" ARGS --version)
 swba_cli_case(help_command 0 REGEX "swba run +\\[<RAWLOG>\\] \\[--gt <FILE>\\]" ARGS help run)
+# A binary file (a rawlog) where a text file is expected is named as such, never parsed; an MRPT path given as TUM.
+set(_binary ${SWBA_DATA_DIR}/mrclam/mrclam6_r1.rawlog)
+set(_tum_ref ${SWBA_DATA_DIR}/evo_reference/gt_kf-slam_6D_demo.tum)
+swba_cli_case(ape_binary_estimate 1 REGEX "mrclam6_r1.rawlog: not a text file \\(a NUL byte at byte [0-9]+" ARGS ape ${_tum_ref} ${_binary})
+swba_cli_case(pgo_binary_input 1 REGEX "g2o file '[^']*mrclam6_r1.rawlog': not a text file" ARGS pgo ${_binary} -q)
+swba_cli_case(bal_binary_input 1 REGEX "BAL file '[^']*mrclam6_r1.rawlog': not a text file" ARGS bal ${_binary} -q)
+swba_cli_case(ape_mrpt_path_as_tum 1 REGEX "robot_path.txt:1: '%' starts a comment in MRPT's files, not in TUM's"
+  ARGS ape ${SWBA_DATA_DIR}/mrclam/mrclam6_r1_ground_truth_robot_path.txt ${_tum_ref})
+swba_cli_case(run_config_options_exclude_each_other 1
+  REGEX "^swba run: error: config '[^']*map_free_gauge.ini': the map landmark policy needs the fixed or the prior gauge"
+  ARGS run --config ${_data}/map_free_gauge.ini --out ${_out}/map_free_gauge_ini)
+swba_cli_case(jobs_not_a_rawlog 1 REGEX "^swba jobs: error: rawlog '[^']*misspelt_key.ini': not an MRPT rawlog"
+  ARGS jobs ${_data}/misspelt_key.ini --out ${_out}/jobs_not_a_rawlog)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/ekf_ini_binary.ini "[ekf]\nini_file = ${_binary}\n")
+swba_cli_case(run_ekf_ini_binary 1 REGEX "EKF INI file '[^']*mrclam6_r1.rawlog': not a text file"
+  ARGS run ${_binary} --config ${CMAKE_CURRENT_BINARY_DIR}/ekf_ini_binary.ini --windows 5 --no-batch --no-plots
+  --max-steps 5 --out ${_out}/run_ekf_ini_binary)
+swba_cli_case(bal_loss_scale_not_positive 2 REGEX "^swba bal: error: --loss-scale must be > 0 \\(see --help\\)"
+  ARGS bal ${_binary} --loss cauchy --loss-scale -1)
+swba_cli_case(directba_synthetic_writes_no_files 2 REGEX "^swba directba: error: --synthetic writes no files"
+  ARGS directba --synthetic -q --out ${_out}/directba_synthetic_out)
 swba_cli_case(simulate_imu_too_long 2 REGEX "^swba simulate-imu: error: duration x imu_rate = 1e\\+11 IMU readings, more than 1e7"
   ARGS simulate-imu --duration 1e9 --out ${_out}/simulate_imu_too_long)
 swba_cli_case(unknown_option 2 REGEX "^swba run: error: unknown option '--bogus' \\(see --help\\)" ARGS run --bogus)

@@ -129,8 +129,10 @@ TEST(ObservationRawlog, SensorOffsetMovesTheCovarianceByTheAdjoint)
 	// it) by ω·ẑ × (−x̂) = −ω·ŷ: the body's y error is the yaw error's negative times 1 m.
 	const CPose3D lidar(1, 0, 0, 0, 0, 0);
 	const std::string path = write_plain_rawlog(lidar);
-	const io::ObservationRawlog log = io::read_observation_rawlog(path, {});
-	ASSERT_EQ(log.pose_priors.size(), 6u);	// both labels are priors when no odometry is named
+	io::SensorRoles roles;
+	roles.pose_prior = {"MAP", "LIDAR_ODOM"};
+	const io::ObservationRawlog log = io::read_observation_rawlog(path, roles);
+	ASSERT_EQ(log.pose_priors.size(), 6u);	// both labels named as priors
 	const Eigen::Matrix<double, 6, 6>& S = log.pose_priors[0].covariance;
 	EXPECT_NEAR(S(1, 1), 0.25 + 0.01 * 1.0, 1e-12);	 // y picks up yaw variance × 1 m²
 	EXPECT_NEAR(S(1, 5), -0.01, 1e-12);
@@ -144,6 +146,18 @@ TEST(ObservationRawlog, RejectsAmbiguousRolesAndTwoImus)
 	roles.pose_prior = {"MAP"};
 	roles.odometry = {"MAP"};
 	EXPECT_THROW(io::read_observation_rawlog(path, roles), std::runtime_error);
+	// Two pose labels and no role named: each could be the prior or a drifting odometry.
+	try
+	{
+		io::read_observation_rawlog(path, {});
+		ADD_FAILURE() << "two pose-prior labels by default were accepted";
+	}
+	catch (const std::runtime_error& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("labels 'MAP' and 'LIDAR_ODOM' would both be global pose priors"),
+				  std::string::npos)
+			<< e.what();
+	}
 	io::SensorRoles keys_roles;
 	const auto keys = io::SensorRoles::ini_keys("sensors");
 	ASSERT_EQ(keys.size(), 3u);

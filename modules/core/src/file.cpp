@@ -39,6 +39,25 @@ std::ifstream open_input_file(const std::string& path, std::ios::openmode mode, 
 	return f;
 }
 
+namespace
+{
+std::string nul_note(std::size_t offset)
+{
+	return "not a text file (a NUL byte at byte " + std::to_string(offset) + ": binary data, e.g. a rawlog)";
+}
+}  // namespace
+
+std::string binary_data_note(std::istream& in)
+{
+	std::string head(64 * 1024, '\0');
+	in.read(head.data(), static_cast<std::streamsize>(head.size()));
+	head.resize(static_cast<std::size_t>(in.gcount()));
+	in.clear();
+	in.seekg(0);
+	const auto nul = head.find('\0');
+	return nul == std::string::npos ? "" : nul_note(nul);
+}
+
 std::string read_text_file(const std::string& path, const std::string& what_file)
 {
 	std::ifstream f = open_input_file(path, std::ios::in | std::ios::binary, what_file);
@@ -47,9 +66,7 @@ std::string read_text_file(const std::string& path, const std::string& what_file
 	if (f.bad()) fail(path, what_file, "read error");
 	std::string s = text.str();
 	const auto nul = s.find('\0');
-	if (nul != std::string::npos)
-		fail(path, what_file, "not a text file (a NUL byte at byte " + std::to_string(nul) +
-								  ": binary data, e.g. a rawlog)");
+	if (nul != std::string::npos) fail(path, what_file, nul_note(nul));
 	return s;
 }
 

@@ -1,6 +1,8 @@
 #include <swba/estimators/ekf_slam.h>
 
-#include <mrpt/config/CConfigFile.h>
+#include <swba/core/file.h>
+
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/slam/CRangeBearingKFSLAM.h>
 #include <mrpt/slam/CRangeBearingKFSLAM2D.h>
 #include <mrpt/system/filesystem.h>
@@ -114,9 +116,8 @@ void load_base_options(Ekf& ekf, const std::vector<io::RawlogStep>& steps,
 {
 	if (!options.ini_file.empty())
 	{
-		if (!mrpt::system::fileExists(options.ini_file))
-			throw std::runtime_error("EKF INI file '" + options.ini_file + "' does not exist");
-		ekf.loadOptions(mrpt::config::CConfigFile(options.ini_file));
+		// Read as text first: a missing, binary or non-regular file is named, not parsed as an empty INI.
+		ekf.loadOptions(mrpt::config::CConfigFileMemory(read_text_file(options.ini_file, "EKF INI file")));
 		return;
 	}
 	ekf.KF_options.method = mrpt::bayes::TKFMethod::kfEKFAlaDavison;
@@ -298,7 +299,11 @@ int ekf_method_from_name(const std::string& name)
 	// The names are MRPT's own (TEnumType of TKFMethod); MRPT's INI reader also takes the number.
 	using mrpt::bayes::TKFMethod;
 	using Names = mrpt::typemeta::TEnumType<TKFMethod>;
-	constexpr int kMethods = 4;
+	// kfIKF (3) is refused: MRPT 2.5 throws "IKF scalar by scalar not implemented yet" at its first update.
+	constexpr int kMethods = 3;
+	if (name == Names::value2name(TKFMethod::kfIKF) || name == "3")
+		throw std::invalid_argument("EKF method '" + name + "' is not implemented by MRPT (its scalar-by-scalar IKF "
+									"throws at the first update): use kfIKFFull");
 	std::string expected;
 	for (int i = 0; i < kMethods; i++)
 	{

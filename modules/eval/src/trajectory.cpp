@@ -89,8 +89,9 @@ std::ifstream open_input(const std::string& path)
 	if (st.type() == std::filesystem::file_type::directory) throw TrajectoryFileError(path, 0, "is a directory, not a file");
 	if (st.type() != std::filesystem::file_type::regular && st.type() != std::filesystem::file_type::not_found)
 		throw TrajectoryFileError(path, 0, "is not a regular file (a FIFO, device or socket)");
-	std::ifstream f(path);
+	std::ifstream f(path, std::ios::in | std::ios::binary);
 	if (!f) throw TrajectoryFileError(path, 0, "cannot open file");
+	if (const std::string note = binary_data_note(f); !note.empty()) throw TrajectoryFileError(path, 0, note);
 	return f;
 }
 
@@ -102,6 +103,11 @@ Trajectory read_tum(std::istream& in, const std::string& source, const TumReadOp
 	Trajectory traj;
 	std::size_t prev_line = 0;
 	detail::for_each_data_line(in, source, '#', [&](const std::string& line, std::size_t line_no) {
+		const auto first = line.find_first_not_of(" \t");
+		if (traj.empty() && first != std::string::npos && line[first] == '%')
+			throw TrajectoryFileError(source, line_no,
+									  "'%' starts a comment in MRPT's files, not in TUM's: an MRPT ground-truth path? "
+									  "(swba ape: --ref-format mrpt-gt)");
 		const auto v = parse_row(line, names, source, line_no, "t x y z qx qy qz qw");
 		if (!traj.empty() && v[0] < traj.stamps.back())
 			throw TrajectoryFileError(source, line_no,

@@ -295,7 +295,9 @@ std::string InformationRepairs::summary(size_t num_edges, double relative_floor)
 
 PoseGraph read_g2o(const std::string& path, const G2oReadOptions& options)
 {
-	std::ifstream in = open_input_file(path, std::ios::in, "g2o file");
+	std::ifstream in = open_input_file(path, std::ios::in | std::ios::binary, "g2o file");
+	if (const std::string note = binary_data_note(in); !note.empty())
+		throw std::runtime_error("g2o file '" + path + "': " + note);
 	return read_g2o(in, path, options);
 }
 

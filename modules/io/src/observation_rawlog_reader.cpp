@@ -100,6 +100,12 @@ void ObservationReader::take_pose(const CObservationRobotPose& o)
 	Eigen::SelfAdjointEigenSolver<Matrix6d> es(0.5 * (S + S.transpose()));
 	if (es.eigenvalues().minCoeff() <= 0)
 		fail(at_entry() + "covariance of '" + o.sensorLabel + "' is not positive definite");
+	// Read as priors by default only when one label is: a drifting odometry taken for a global prior gives
+	// a wrong answer without an error.
+	if (!is_odometry && roles_.pose_prior.empty() && !priors_.empty() && priors_.front().label != o.sensorLabel)
+		fail(at_entry() + "CObservationRobotPose labels '" + priors_.front().label + "' and '" + o.sensorLabel +
+			 "' would both be global pose priors: name the roles with [sensors] pose_prior and odometry "
+			 "(e.g. --config with the .ini swba simulate-imu writes)");
 	(is_odometry ? odometry_ : priors_).push_back({o.timestamp, o.sensorLabel, o.pose.mean, o.sensorPose, S, entry_});
 }
 

@@ -169,8 +169,8 @@ DirectBAResult run_direct_ba(const io::DirectBADataset& data, const DirectBAOpti
 	check_data(data);
 	const int n = static_cast<int>(data.world_from_camera.size());
 	if (options.fixed_cameras > n)
-		throw std::invalid_argument("directba: cannot fix " + std::to_string(options.fixed_cameras) +
-									" cameras of " + std::to_string(n));
+		throw std::invalid_argument("fixed_cameras = " + std::to_string(options.fixed_cameras) +
+									", but the data set has " + std::to_string(n) + " cameras");
 
 	DirectBAResult res;
 	std::vector<Eigen::Vector3d> initial_points;

@@ -246,8 +246,30 @@ void load_run_config(const std::string& path, RunOptions& options)
 	load_run_config_text(read_text_file(path, "config"), path, options);
 }
 
+namespace
+{
+/** MRPT's parser skips a line it cannot read; here such a line is an error (a key without '=' would be an
+ * option silently left at its default). */
+void check_config_lines(const std::string& text, const std::string& source)
+{
+	std::istringstream in(text);
+	std::size_t n = 0;
+	for (std::string line; std::getline(in, line);)
+	{
+		n++;
+		const std::string t = trim(line);
+		if (t.empty() || t[0] == '#' || t[0] == ';' || t.rfind("//", 0) == 0) continue;
+		if (t.front() == '[' && t.back() == ']') continue;
+		if (t.find('=') == std::string::npos)
+			throw std::runtime_error("config '" + source + "':" + std::to_string(n) + ": '" + t +
+									 "' is neither a [section], a key = value line nor a comment");
+	}
+}
+}  // namespace
+
 void load_run_config_text(const std::string& text, const std::string& source_name, RunOptions& options)
 {
+	check_config_lines(text, source_name);
 	mrpt::config::CConfigFileMemory cfg(text);
 	apply_config(cfg, source_name, options);
 }
@@ -331,7 +353,7 @@ std::vector<bool> parse_fej_list(const std::string& text)
 
 std::vector<std::string> parse_ekf_method_list(const std::string& text)
 {
-	static const char* names[] = {"kfEKFNaive", "kfEKFAlaDavison", "kfIKFFull", "kfIKF"};
+	static const char* names[] = {"kfEKFNaive", "kfEKFAlaDavison", "kfIKFFull"};
 	std::vector<std::string> m;
 	for (const auto& item : split_list(text, "EKF methods"))
 	{

@@ -5,6 +5,7 @@
 #include <swba/core/file.h>
 #include <swba/eval/ground_truth.h>
 #include <swba/io/observation_rawlog.h>
+#include <swba/io/rawlog.h>
 
 #include "../json_values.h"
 #include "summary_json.h"
@@ -166,6 +167,15 @@ SweepGroup rawlog_group(const std::string& r)
 	g.rawlog = absolute(r);
 	g.name = file_safe(rawlog_stem(r));
 	g.inertial = io::is_observation_rawlog(g.rawlog);
+	if (!g.inertial)
+	{
+		// Its first step, so that a file that is no rawlog fails here, not in every job.
+		io::RawlogReaderOptions first;
+		first.max_steps = 1;
+		first.require_landmark_ids = false;
+		first.probe_decoder = false;
+		(void)io::read_rawlog(g.rawlog, first);
+	}
 	RunOptions gt_of;
 	gt_of.rawlog = g.rawlog;
 	const std::string gt = g.inertial ? inertial_ground_truth_path(gt_of) : eval::default_ground_truth_path(g.rawlog);
@@ -292,7 +302,7 @@ void write_sweep(const SweepOptions& options, const SweepPlan& plan, std::ostrea
 		write_text_file_atomically(plan.dir + "/" + name, text);
 	};
 	const std::string header = "# swba sweep: the swba run options of ";
-	write(kRunConfig, header + "each rawlog's first job (load with swba run --config)\n" +
+	write(kRunConfig, header + "each rawlog's job of the widest W (load with swba run --config)\n" +
 						  format_run_config(job_run_options(options.run, true)));
 	write(kWindowsConfig, header + "the other jobs: EKF, batch and causal off\n" +
 							  format_run_config(job_run_options(options.run, false)));

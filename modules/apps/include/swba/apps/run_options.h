@@ -45,7 +45,7 @@ struct RunOptions
 	std::vector<bool> fej = {true};
 	/** Run MRPT's EKF (each method in ekf_methods). Default true. */
 	bool run_ekf = true;
-	/** MRPT Kalman-filter methods (kfEKFNaive, kfEKFAlaDavison, kfIKFFull, kfIKF). Default {kfEKFAlaDavison, kfEKFNaive}. */
+	/** MRPT Kalman-filter methods (kfEKFNaive, kfEKFAlaDavison, kfIKFFull). Default {kfEKFAlaDavison, kfEKFNaive}. */
 	std::vector<std::string> ekf_methods = {"kfEKFAlaDavison", "kfEKFNaive"};
 	/** Optional kf-slam INI for the EKF's other options (its std_sensor_* are overridden by `window.sensor_std_*`
 	 * when those are set). Default "" (MRPT's defaults). */

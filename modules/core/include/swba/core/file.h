@@ -26,6 +26,10 @@ std::ifstream open_input_file(const std::string& path, std::ios::openmode mode =
  * it holds a NUL byte, so that a binary file given where text is expected is named, never parsed. */
 std::string read_text_file(const std::string& path, const std::string& what_file = "");
 
+/** For readers that stream a text file: "not a text file (a NUL byte at byte N: binary data, e.g. a rawlog)"
+ * when the first 64 KiB of `in` hold a NUL byte, else ""; `in` is rewound to its start either way. */
+std::string binary_data_note(std::istream& in);
+
 /** Writes `path` through `write`: into "<path>.tmp.<pid>" in the same directory, flushed and closed,
  * then renamed over `path`, so that a reader (or a run interrupted mid-write) never leaves a
  * half-written file, and an existing `path` stays intact when the write fails. A `path` that exists

@@ -25,7 +25,8 @@ namespace swba::estimators
 /** Options of run_ekf_slam(). Precedence for each value: this struct > the INI file > default. */
 struct EkfSlamOptions
 {
-	/** Kalman-filter method by MRPT's name: "kfEKFNaive", "kfEKFAlaDavison", "kfIKFFull", "kfIKF".
+	/** Kalman-filter method by MRPT's name: "kfEKFNaive", "kfEKFAlaDavison", "kfIKFFull" (MRPT's "kfIKF" is
+	 * refused: MRPT 2.5 does not implement it).
 	 * Unset: the INI's `method` if an INI is given, else "kfEKFAlaDavison" (the kf-slam INIs' choice). */
 	std::optional<std::string> method;
 	/** Optional kf-slam INI (e.g. /usr/share/mrpt/config_files/kf-slam/EKF-SLAM_6D_test.ini); its
