@@ -233,10 +233,17 @@ void add_batch_rows(const RowContext& ctx, const estimators::SlidingWindowOption
 	other.name = "batch_alt";
 	other.label = "batch alt (" + short_start(other) + ")";
 	other.file = "batch_alt.tum";
-	char buf[200];
-	std::snprintf(buf, sizeof buf, "batch: started from %s (final cost %.6g), lower than from %s (%.6g): the batch row",
-				  chosen.start.c_str(), chosen.final_cost.value_or(NAN), other.start.c_str(),
-				  other.final_cost.value_or(NAN));
+	// Six digits, or nine when six print the two costs alike (then they differ further down, or not at all).
+	const double a = chosen.final_cost.value_or(NAN), b = other.final_cost.value_or(NAN);
+	char pa[32], pb[32], buf[240];
+	for (const int digits : {6, 9})
+	{
+		std::snprintf(pa, sizeof pa, "%.*g", digits, a);
+		std::snprintf(pb, sizeof pb, "%.*g", digits, b);
+		if (std::string(pa) != pb) break;
+	}
+	std::snprintf(buf, sizeof buf, "batch: started from %s (final cost %s), %s from %s (%s): the batch row",
+				  chosen.start.c_str(), pa, std::string(pa) == pb ? "the same as" : "lower than", other.start.c_str(), pb);
 	report.notes.push_back(other.failed ? "batch: started from " + chosen.start + "; from " + other.start + " it failed"
 										: std::string(buf));
 	report.rows.push_back(std::move(chosen));

@@ -239,7 +239,8 @@ std::string format_nees_table(const NeesReport& r)
 std::string format_nees_csv(const NeesReport& r)
 {
 	std::ostringstream s;
-	s << "label,stamp,runs,position_nees,position_dof,position_band_low,position_band_high,pose_nees,pose_dof,"
+	// *_dof_sum: N·d over the step's N runs, the degrees of freedom of the band's χ² (not one pose's d).
+	s << "label,stamp,runs,position_nees,position_dof_sum,position_band_low,position_band_high,pose_nees,pose_dof_sum,"
 		 "pose_band_low,pose_band_high\n";
 	for (const auto& e : r.estimators)
 	{
