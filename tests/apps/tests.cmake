@@ -222,6 +222,10 @@ foreach(_sig_rc INT:130 TERM:143)
   set_tests_properties(runapp.e2e.interrupted_by_sig${_sig} PROPERTIES PASS_REGULAR_EXPRESSION "OK: exit ${_rc}"
     TIMEOUT 120)
 endforeach()
+add_test(NAME runapp.e2e.config_reload_elsewhere
+  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/config_reload_elsewhere.sh $<TARGET_FILE:swba>
+  ${SWBA_DATA_DIR}/mrclam/mrclam6_r1.rawlog ${_out}/config_reload_elsewhere)
+set_tests_properties(runapp.e2e.config_reload_elsewhere PROPERTIES PASS_REGULAR_EXPRESSION "OK: config.ini" TIMEOUT 120)
 add_test(NAME runapp.e2e.interrupted_by_sigTERM_twice
   COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/interrupt.sh $<TARGET_FILE:swba> ${_out}/interrupted_twice TERM 143 twice)
 set_tests_properties(runapp.e2e.interrupted_by_sigTERM_twice PROPERTIES PASS_REGULAR_EXPRESSION "OK: exit 143"

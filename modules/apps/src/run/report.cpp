@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -297,8 +298,11 @@ void write_run_files(const RunOptions& options, const std::vector<mrpt::poses::C
 	write_text_file(path("ape.txt"), format_ape_text(report), report);
 	write_text_file(path("ape.csv"), format_ape_csv(report), report);
 	write_text_file(path("summary.json"), format_summary_json(report), report);
+	RunOptions recorded = options;  // its paths absolute, so that the file reloads from any directory
+	for (std::string* p : {&recorded.rawlog, &recorded.ground_truth, &recorded.association_truth, &recorded.ekf_ini})
+		if (!p->empty()) *p = std::filesystem::absolute(*p).lexically_normal().string();
 	write_text_file(path("config.ini"),
-					"# swba run: the options of this run (load with --config)\n" + format_run_config(options), report);
+					"# swba run: the options of this run (load with --config)\n" + format_run_config(recorded), report);
 	write_run_manifest(dir, report.files);
 }
 
