@@ -142,6 +142,12 @@ swba_cli_case(run_config_options_exclude_each_other 1
   ARGS run --config ${_data}/map_free_gauge.ini --out ${_out}/map_free_gauge_ini)
 swba_cli_case(jobs_not_a_rawlog 1 REGEX "^swba jobs: error: rawlog '[^']*misspelt_key.ini': not an MRPT rawlog"
   ARGS jobs ${_data}/misspelt_key.ini --out ${_out}/jobs_not_a_rawlog)
+swba_cli_case(jobs_simulate_not_a_simulator_ini 1
+  REGEX "^swba jobs: error: simul-landmarks INI '[^']*misspelt_key.ini': no \\[Params\\] random_seed"
+  ARGS jobs --simulate ${_data}/misspelt_key.ini --seeds 1-2 --out ${_out}/jobs_simulate_not_ini)
+swba_cli_case(nees_not_a_simulator_ini 1
+  REGEX "^swba nees: error: simul-landmarks INI '[^']*misspelt_key.ini': no \\[Params\\] random_seed"
+  ARGS nees --ini ${_data}/misspelt_key.ini --runs 1 --out ${_out}/nees_not_ini)
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/ekf_ini_binary.ini "[ekf]\nini_file = ${_binary}\n")
 swba_cli_case(run_ekf_ini_binary 1 REGEX "EKF INI file '[^']*mrclam6_r1.rawlog': not a text file"
   ARGS run ${_binary} --config ${CMAKE_CURRENT_BINARY_DIR}/ekf_ini_binary.ini --windows 5 --no-batch --no-plots

@@ -194,7 +194,8 @@ SweepPlan plan_sweep(const SweepOptions& o)
 	plan.threads = o.run.window.solver.num_threads;
 	if (!o.simulate_ini.empty())
 	{
-		check_input_file(o.simulate_ini, "simul-landmarks INI");
+		// As swba simulate reads it, so that a file that is no simul-landmarks INI fails here, not in every job.
+		(void)simulation_ini(read_text_file(o.simulate_ini, "simul-landmarks INI"), o.simulate_ini, 1, "check");
 		plan.simulate_ini = absolute(o.simulate_ini);
 		for (long seed : o.seeds)
 		{
