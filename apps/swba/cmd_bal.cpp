@@ -16,7 +16,7 @@ struct BalCommandLine
 		"by a Schur complement, Levenberg-Marquardt. Prints the per-iteration table and a summary.",
 		' ', "0.1.0"};
 	TCLAP::UnlabeledValueArg<std::string> problem{
-		"problem", "BAL problem file (plain text, or bzip2 if supported)", true, "", "PROBLEM", cmd};
+		"PROBLEM", "BAL problem file (plain text, or bzip2 if supported)", true, "", "PROBLEM", cmd};
 	TCLAP::ValueArg<std::string> linear{"", "linear",
 										"reduced camera system: dense-schur, sparse-schur (CHOLMOD) or auto = dense up to 1500 unknowns "
 										"(Default: auto)",

@@ -18,7 +18,7 @@ struct DirectbaCommandLine
 		"bilinearly at its projection; Huber kernel, points eliminated by Schur, first camera(s) fixed. "
 		"DIR holds poses.txt, points.txt and 0.png..N-1.png (see doc/directba.md).",
 		' ', "0.1.0"};
-	TCLAP::UnlabeledValueArg<std::string> dir{"dir", "data set directory (not with --synthetic)", false, "", "DIR", cmd};
+	TCLAP::UnlabeledValueArg<std::string> dir{"DIR", "data set directory (not with --synthetic)", false, "", "DIR", cmd};
 	TCLAP::SwitchArg synthetic{"", "synthetic",
 							   "run the synthetic check: render a textured room, perturb, recover, compare with "
 							   "ground truth (exit 1 unless poses <= 1 mm / 0.05 deg and points <= 1 cm)",

@@ -15,7 +15,7 @@ struct PgoCommandLine
 		"Optimises a g2o pose graph (VERTEX_SE3:QUAT/EDGE_SE3:QUAT or VERTEX_SE2/EDGE_SE2, FIX) with "
 		"Levenberg-Marquardt and writes the optimised graph. Cost = 1/2 sum r^T Lambda r (see doc/pgo.md).",
 		' ', "0.1.0"};
-	TCLAP::UnlabeledValueArg<std::string> input{"input", "input g2o file", true, "", "IN.g2o", cmd};
+	TCLAP::UnlabeledValueArg<std::string> input{"IN.g2o", "input g2o file", true, "", "IN.g2o", cmd};
 	TCLAP::ValueArg<std::string> information{
 		"", "information",
 		"edge information matrices that are not positive definite: strict = error naming file:line; repair = "

@@ -1,4 +1,5 @@
 // swba: sliding-window bundle adjustment and graph-SLAM back end on MRPT.
+#include <algorithm>
 #include <cstring>
 #include <exception>
 #include <iostream>
@@ -22,9 +23,10 @@ static void print_usage(std::ostream& os)
 {
 	os << "swba — sliding-window bundle adjustment and graph-SLAM back end on MRPT\n\n"
 		  "Usage: swba <command> [options]     (swba <command> --help for details)\n\nCommands:\n";
+	std::size_t width = 0;  // the summaries in one column after the longest name
+	for (const auto& [name, c] : command_registry()) width = std::max(width, name.size());
 	for (const auto& [name, c] : command_registry())
-		os << "  " << name << std::string(name.size() < 10 ? 10 - name.size() : 1, ' ') << c.summary
-		   << "\n";
+		os << "  " << name << std::string(width + 2 - name.size(), ' ') << c.summary << "\n";
 }
 }  // namespace swba::app
 
