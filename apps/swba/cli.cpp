@@ -2,11 +2,17 @@
 // error for an option no argument declares (TCLAP would hand "--bogus" to an optional positional).
 #include "cli.h"
 
+#include <mrpt/version.h>
+#include <swba/linear/rank_update.h>
+
+#include <Eigen/Core>
+
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <vector>
 
 namespace swba::app
@@ -44,6 +50,8 @@ std::vector<TCLAP::Arg*> help_order(TCLAP::CmdLineInterface& c)
 class OneLineOutput : public TCLAP::StdOutput
 {
    public:
+	/** The line of `swba version` (TCLAP's own reads "swba run  version: 0.1.0"). */
+	void version(TCLAP::CmdLineInterface&) override { std::cout << version_line() << "\n"; }
 	bool failed = false;
 	std::string extra_argument_hint;  ///< said after "unexpected argument 'x'"
 	/** TCLAP's layout, in help_order. */
@@ -176,6 +184,15 @@ std::string normalise(TCLAP::CmdLine& cmd, int argc, char** argv, std::vector<st
 	return "";
 }
 }  // namespace
+
+std::string version_line()
+{
+	std::ostringstream s;
+	s << "swba 0.1.0 (MRPT " << ((MRPT_VERSION >> 8) & 0xF) << "." << ((MRPT_VERSION >> 4) & 0xF) << "."
+	  << (MRPT_VERSION & 0xF) << ", Eigen " << EIGEN_WORLD_VERSION << "." << EIGEN_MAJOR_VERSION << "."
+	  << EIGEN_MINOR_VERSION << "; rank-update kernel " << enum_name(active_simd_level()) << ")";
+	return s.str();
+}
 
 std::string share_dir()
 {

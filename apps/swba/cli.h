@@ -22,6 +22,10 @@ std::optional<int> parse_command_line(TCLAP::CmdLine& cmd, int argc, char** argv
  * from the executable's own path), else the source tree's share/. */
 std::string share_dir();
 
+/** "swba 0.1.0 (MRPT …, Eigen …; rank-update kernel …)": what `swba version` and every command's
+ * --version print. */
+std::string version_line();
+
 /** This swba executable's absolute path (from /proc/self/exe; "swba" when it cannot be read): what
  * generated job lines call. */
 std::string this_executable();

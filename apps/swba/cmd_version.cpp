@@ -1,9 +1,5 @@
 // swba version: prints the program and dependency versions, and the SIMD level of the rank-update
 // kernel this machine runs (swba/linear/rank_update.h).
-#include <mrpt/version.h>
-#include <swba/linear/rank_update.h>
-
-#include <Eigen/Core>
 #include <iostream>
 
 #include "cli.h"
@@ -15,9 +11,7 @@ int run_version(int argc, char** argv)
 {
 	TCLAP::CmdLine cmd("Prints the versions of swba and of the libraries it was built with.", ' ', "0.1.0");
 	if (auto rc = swba::app::parse_command_line(cmd, argc, argv)) return *rc;
-	std::cout << "swba 0.1.0 (MRPT " << ((MRPT_VERSION >> 8) & 0xF) << "." << ((MRPT_VERSION >> 4) & 0xF) << "." << (MRPT_VERSION & 0xF) << ", Eigen " << EIGEN_WORLD_VERSION << "."
-			  << EIGEN_MAJOR_VERSION << "." << EIGEN_MINOR_VERSION << "; rank-update kernel "
-			  << swba::enum_name(swba::active_simd_level()) << ")\n";
+	std::cout << swba::app::version_line() << "\n";
 	return 0;
 }
 SWBA_REGISTER_COMMAND("version", "print versions", run_version);

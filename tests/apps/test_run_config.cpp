@@ -148,7 +148,7 @@ TEST(RunConfig, BadValuesNameTheKey)
 	for (const Case& c : std::vector<Case>{
 			 {"[solver]\nmax_iterations = 10x\n", "[solver] max_iterations: '10x' is not an integer"},
 			 {"[solver]\nmax_iterations = 0\n", "[solver] max_iterations: '0' must be an integer >= 1"},
-			 {"[window]\nsizes = 1,5\n", "[window] sizes: sizes: window size must be in [2, 1000000], got 1"},
+			 {"[window]\nsizes = 1,5\n", "[window] sizes: window size must be in [2, 1000000], got 1"},
 			 {"[window]\npolicy = fast\n", "[window] policy: unknown policy 'fast'"},
 			 {"[window]\nfej = maybe\n", "[window] fej: unknown fej value 'maybe'"},
 			 {"[window]\ngauge = loose\n", "[window] gauge: unknown gauge 'loose'"},

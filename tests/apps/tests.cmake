@@ -128,6 +128,7 @@ function(swba_cli_case name rc)
     COMMAND ${CMAKE_COMMAND} "-DCMD=${_cmd}" -DEXPECT_RC=${rc} "-DREGEX=${C_REGEX}" -P ${_check})
 endfunction()
 swba_cli_case(version_option 0 REGEX "^swba [0-9]+\\.[0-9]+\\.[0-9]+ \\(MRPT [0-9.]+, Eigen [0-9.]+; rank-update kernel [a-z0-9]+\\)" ARGS --version)
+swba_cli_case(command_version_option 0 REGEX "^swba [0-9]+\\.[0-9]+\\.[0-9]+ \\(MRPT [0-9.]+, Eigen" ARGS run --version)
 swba_cli_case(help_command 0 REGEX "swba run +\\[<RAWLOG>\\] \\[--gt <FILE>\\]" ARGS help run)
 # A binary file (a rawlog) where a text file is expected is named as such, never parsed; an MRPT path given as TUM.
 set(_binary ${SWBA_DATA_DIR}/mrclam/mrclam6_r1.rawlog)

@@ -101,7 +101,7 @@ IniKeys<RunOptions> window_sweep_keys()
 {
 	return {
 		{"window", "sizes", "poses", "window sizes W, comma-separated, each >= 2",
-		 [](const S& v, O& o) { o.windows = parse_window_list(v, "sizes"); },
+		 [](const S& v, O& o) { o.windows = parse_window_list(v, ""); },  // the key is already in the message
 		 [](const O& o) { return windows_text(o.windows); }},
 		{"window", "policy", "slam|constant-time|map, a comma-separated list, both or all",
 		 "landmark policy: slam keeps every landmark, constant-time marginalises landmarks no window pose sees, "
@@ -293,8 +293,9 @@ std::vector<std::string> split_list(const std::string& text, const std::string& 
 
 std::vector<int> parse_window_list(const std::string& text, const std::string& what)
 {
+	const std::string at = what.empty() ? "" : what + ": ";
 	std::vector<int> w;
-	for (const auto& item : split_list(text, what))
+	for (const auto& item : split_list(text, what.empty() ? "window sizes" : what))
 	{
 		long long v = 0;
 		try
@@ -303,10 +304,10 @@ std::vector<int> parse_window_list(const std::string& text, const std::string& w
 		}
 		catch (const std::exception&)
 		{
-			throw std::invalid_argument(what + ": '" + item + "' is not an integer window size");
+			throw std::invalid_argument(at + "'" + item + "' is not an integer window size");
 		}
 		if (v < 2 || v > kMaxWindowSize)
-			throw std::invalid_argument(what + ": window size must be in [2, " + std::to_string(kMaxWindowSize) +
+			throw std::invalid_argument(at + "window size must be in [2, " + std::to_string(kMaxWindowSize) +
 										"], got " + item);
 		if (std::find(w.begin(), w.end(), static_cast<int>(v)) == w.end()) w.push_back(static_cast<int>(v));
 	}

@@ -101,8 +101,8 @@ void load_run_config_text(const std::string& text, const std::string& source_nam
  * million-pose prior, far beyond what a run can hold in memory. */
 inline constexpr int kMaxWindowSize = 1000000;
 
-/** "5,10,20" → {5, 10, 20}. Throws std::invalid_argument naming `what` on an empty list, a
- * non-integer or a window outside [2, kMaxWindowSize]. */
+/** "5,10,20" → {5, 10, 20}. Throws std::invalid_argument ("<what>: …"; no prefix when `what` is empty) on
+ * an empty list, a non-integer or a window outside [2, kMaxWindowSize]. */
 std::vector<int> parse_window_list(const std::string& text, const std::string& what = "windows");
 /** "slam" | "constant-time" | "map", a comma-separated list of them (duplicates dropped), "both"
  * (slam, constant-time) or "all". */
