@@ -119,7 +119,7 @@ TEST(DirectBAIO, PosesAreCameraFromWorldInTheFile)
 
 TEST(DirectBAIO, MissingFilesGiveErrorsNamingThem)
 {
-	expect_error([] { io::read_directba_dataset("/nonexistent/swba/dir"); }, {"poses.txt", "not found"});
+	expect_error([] { io::read_directba_dataset("/nonexistent/swba/dir"); }, {"/nonexistent/swba/dir", "does not exist"});
 	TempDataset t("missing");
 	fs::remove(t.dir / "6.png");
 	expect_error([&] { io::read_directba_dataset(t.dir.string()); }, {"6.png", "not found"});

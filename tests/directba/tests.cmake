@@ -6,7 +6,10 @@ set_tests_properties(directba.e2e_synthetic_check PROPERTIES PASS_REGULAR_EXPRES
 # Bad input: clear one-line errors, exit != 0.
 add_test(NAME directba.e2e_missing_dir COMMAND $<TARGET_FILE:swba> directba /nonexistent/directba)
 set_tests_properties(directba.e2e_missing_dir PROPERTIES
-  PASS_REGULAR_EXPRESSION "error: /nonexistent/directba/poses.txt: file not found")
+  PASS_REGULAR_EXPRESSION "error: /nonexistent/directba: directory does not exist")
+add_test(NAME directba.e2e_file_not_dir COMMAND $<TARGET_FILE:swba> directba ${SWBA_DATA_DIR}/directba/poses.txt)
+set_tests_properties(directba.e2e_file_not_dir PROPERTIES
+  PASS_REGULAR_EXPRESSION "error: [^\n]*directba/poses.txt: is not a directory")
 add_test(NAME directba.e2e_missing_dir_exit_code COMMAND $<TARGET_FILE:swba> directba /nonexistent/directba)
 set_tests_properties(directba.e2e_missing_dir_exit_code PROPERTIES WILL_FAIL TRUE)
 add_test(NAME directba.e2e_rejects_bad_sigma COMMAND $<TARGET_FILE:swba> directba ${SWBA_DATA_DIR}/directba --sigma -1)

@@ -178,6 +178,10 @@ DirectBADataset read_directba_dataset(const std::string& dir, const PinholeIntri
 	DirectBADataset ds;
 	ds.intrinsics = intrinsics;
 	const std::string base = dir.empty() ? std::string(".") : dir;
+	std::error_code ec;
+	if (!std::filesystem::exists(base, ec)) throw std::runtime_error(base + ": directory does not exist");
+	if (!std::filesystem::is_directory(base, ec))
+		throw std::runtime_error(base + ": is not a directory (a data set is a directory of poses.txt, points.txt and PNGs)");
 	read_directba_poses(base + "/poses.txt", ds.timestamps, ds.world_from_camera);
 	ds.points = read_directba_points(base + "/points.txt");
 	for (size_t i = 0; i < ds.world_from_camera.size(); i++)
