@@ -141,6 +141,8 @@ swba_cli_case(ape_mrpt_path_as_tum 1 REGEX "robot_path.txt:1: '%' starts a comme
 swba_cli_case(run_config_options_exclude_each_other 1
   REGEX "^swba run: error: config '[^']*map_free_gauge.ini': the map landmark policy needs the fixed or the prior gauge"
   ARGS run --config ${_data}/map_free_gauge.ini --out ${_out}/map_free_gauge_ini)
+swba_cli_case(jobs_names_itself 0 REGEX "swba jobs: wrote 4 jobs into [^\n]*/jobs_names_itself/jobs.txt"
+  ARGS jobs ${_binary} --out ${_out}/jobs_names_itself)
 swba_cli_case(jobs_not_a_rawlog 1 REGEX "^swba jobs: error: rawlog '[^']*misspelt_key.ini': not an MRPT rawlog"
   ARGS jobs ${_data}/misspelt_key.ini --out ${_out}/jobs_not_a_rawlog)
 swba_cli_case(jobs_simulate_not_a_simulator_ini 1

@@ -65,7 +65,7 @@ int run_nees_app(const NeesOptions& o, std::ostream& out, std::ostream& log)
 	o.validate();
 	const SweepOptions so = o.sweep_options();
 	const SweepPlan plan = plan_sweep(so);
-	write_sweep(so, plan, log, o.jobs_only);
+	write_sweep(so, plan, log, o.jobs_only, "swba nees");
 	if (o.jobs_only) return 0;
 	log << "swba nees: running the " << plan.jobs.size() << " jobs of " << plan.dir
 		<< "/jobs.txt here, one after the other (--jobs-only writes them for GNU parallel or Slurm instead)\n";
@@ -92,6 +92,7 @@ int run_nees_app(const NeesOptions& o, std::ostream& out, std::ostream& log)
 	MergeOptions mo;
 	mo.dir = plan.dir;
 	mo.plots = o.plots;
+	mo.program = "swba nees";
 	merge_nees_sweep(plan, mo, out, log);
 	return 0;
 }

@@ -184,12 +184,12 @@ NeesReport merge_nees_sweep(const SweepPlan& plan, const MergeOptions& options, 
 	for (auto& e : report.estimators)
 	{
 		e.average = eval::average_nees(runs[e.label]);
-		for (const auto& f : e.failures) log << "swba nees: " << e.label << ": " << f << ": left out of the average\n";
+		for (const auto& f : e.failures) log << options.program << ": " << e.label << ": " << f << ": left out of the average\n";
 	}
 	const std::string dir = options.out_dir.empty() ? plan.dir + "/nees" : options.out_dir;
 	const std::string table = write_nees_files(dir, options, report, log);
 	out << table << std::flush;
-	log << "swba nees: wrote " << report.files.size() << " files into " << dir << "/\n";
+	log << options.program << ": wrote " << report.files.size() << " files into " << dir << "/\n";
 	return report;
 }
 

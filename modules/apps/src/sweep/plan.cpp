@@ -294,7 +294,7 @@ std::string format_sweep_manifest(const SweepPlan& plan)
 	return j.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n";
 }
 
-void write_sweep(const SweepOptions& options, const SweepPlan& plan, std::ostream& log, bool say_how_to_run)
+void write_sweep(const SweepOptions& options, const SweepPlan& plan, std::ostream& log, bool say_how_to_run, const std::string& program)
 {
 	std::error_code ec;
 	fs::create_directories(plan.dir, ec);
@@ -311,7 +311,7 @@ void write_sweep(const SweepOptions& options, const SweepPlan& plan, std::ostrea
 	write("jobs.sbatch", format_sbatch_script(plan));
 	write("sweep.json", format_sweep_manifest(plan));
 	if (!say_how_to_run) return;
-	log << "swba: wrote " << plan.jobs.size() << " jobs into " << plan.dir << "/jobs.txt. Run them with\n"
+	log << program << ": wrote " << plan.jobs.size() << " jobs into " << plan.dir << "/jobs.txt. Run them with\n"
 		<< "  parallel -j 2 --joblog " << plan.dir << "/joblog --bar < " << plan.dir << "/jobs.txt\n"
 		<< "or on Slurm: sbatch " << plan.dir << "/jobs.sbatch; then: swba merge " << plan.dir << "\n";
 }

@@ -119,9 +119,10 @@ std::string format_sweep_manifest(const SweepPlan& plan);
 
 /** Writes the sweep directory (config.ini, config_windows.ini, jobs.txt, jobs.sbatch, sweep.json) and,
  * with `say_how_to_run`, says on `log` how to run the jobs (GNU parallel, Slurm) and merge them; a
- * caller that runs them itself says so instead. Throws std::runtime_error naming a path that cannot be
+ * caller that runs them itself says so instead; `program` names the command in that line. Throws std::runtime_error naming a path that cannot be
  * written. */
-void write_sweep(const SweepOptions& options, const SweepPlan& plan, std::ostream& log, bool say_how_to_run = true);
+void write_sweep(const SweepOptions& options, const SweepPlan& plan, std::ostream& log, bool say_how_to_run = true,
+				 const std::string& program = "swba jobs");
 
 /** Reads DIR/sweep.json. Throws std::runtime_error naming the file and what is wrong. */
 SweepPlan read_sweep_manifest(const std::string& dir);
@@ -141,6 +142,8 @@ struct MergeOptions
 	std::string out_dir;
 	/** Write gnuplot plots when gnuplot is found. (Default = true) */
 	bool plots = true;
+	/** The command its messages on the log name. (Default = "swba merge") */
+	std::string program = "swba merge";
 };
 
 /** One merged report per rawlog. */
