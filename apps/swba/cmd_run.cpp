@@ -82,7 +82,7 @@ struct RunCommandLine
 	OverrideArg<int> relinearized{"relinearized-poses", "K", "2",
 		"poses of each window re-linearised at every step, the newest K (>= 2); the older ones are smoothed "
 		"as frozen linear conditionals (doc/window.md); 0 = the whole window", cmd};
-	TCLAP::SwitchArg no_ekf{"", "no-ekf", "do not run MRPT's EKF", cmd};
+	TCLAP::SwitchArg no_ekf{"", "no-ekf", "do not run MRPT's EKF (on an inertial rawlog: the ESKF)", cmd};
 	TCLAP::SwitchArg no_batch{"", "no-batch", "do not run the batch estimator", cmd};
 	TCLAP::SwitchArg causal{
 		"", "causal",

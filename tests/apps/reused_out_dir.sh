@@ -23,15 +23,16 @@ listed=$(sort "$out/swba_run_files.txt")
 actual=$(cd "$out" && find . -type f ! -name swba_run_files.txt ! -name notes_of_mine.txt | sed 's|^\./||' | sort)
 [ "$listed" = "$actual" ] || fail "the manifest is not the directory's files: $(diff <(echo "$listed") <(echo "$actual"))"
 # An inertial rawlog's run into the same directory removes the range-bearing run's files too (and says that
-# --max-steps does not apply to it).
+# --max-steps does not apply to it, while --no-ekf skips its filter).
 "$swba" simulate-imu --duration 3 --out "$out.imu" --name imu >/dev/null 2>&1 || fail "simulate-imu"
-"$swba" run "$out.imu/imu.rawlog" --config "$out.imu/imu.ini" --windows 5 --no-plots --no-progress --max-steps 9 \
+"$swba" run "$out.imu/imu.rawlog" --config "$out.imu/imu.ini" --windows 5 --no-plots --no-progress --max-steps 9 --no-ekf \
 	--out "$out" >/dev/null 2>"$out.stderr" || fail "inertial run"
 grep -q "^swba run: warning: not used on an inertial rawlog (doc/inertial.md), ignored: --max-steps$" "$out.stderr" ||
 	fail "no warning on --max-steps"
 grep -Eq "^swba run: removed the [0-9]+ files of an earlier run from $out/\$" "$out.stderr" || fail "no 'removed' line (inertial)"
 [ -e "$out/window_7.tum" ] && fail "window_7.tum of the range-bearing run is still there"
 [ -f "$out/window_W_5.tum" ] || fail "the inertial run's files are missing"
+[ -e "$out/eskf.tum" ] && fail "--no-ekf ran the ESKF"
 listed=$(sort "$out/swba_run_files.txt")
 actual=$(cd "$out" && find . -type f ! -name swba_run_files.txt ! -name notes_of_mine.txt | sed 's|^\./||' | sort)
 [ "$listed" = "$actual" ] || fail "the inertial manifest is not the directory's files: $(diff <(echo "$listed") <(echo "$actual"))"
