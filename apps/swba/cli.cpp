@@ -85,6 +85,14 @@ class OneLineOutput : public TCLAP::StdOutput
 		const std::string tclap_id = "Argument: ";
 		if (!missing.empty() && e.error().find("required arguments missing") != std::string::npos)
 			std::cerr << "missing argument(s): " << missing;
+		else if (e.error().find("Argument already set!") != std::string::npos &&
+				 e.argId().compare(0, tclap_id.size(), tclap_id) == 0)
+		{
+			// TCLAP's "Argument: (--name)" or "Argument: (-f, --name)".
+			std::string id = e.argId().substr(tclap_id.size());
+			if (id.size() > 2 && id.front() == '(' && id.back() == ')') id = id.substr(1, id.size() - 2);
+			std::cerr << "option " << id << " given twice";
+		}
 		else if (e.error().find("Couldn't find match for argument") != std::string::npos &&
 				 e.argId().compare(0, tclap_id.size(), tclap_id) == 0)
 		{

@@ -161,6 +161,8 @@ swba_cli_case(directba_synthetic_writes_no_files 2 REGEX "^swba directba: error:
   ARGS directba --synthetic -q --out ${_out}/directba_synthetic_out)
 swba_cli_case(simulate_imu_too_long 2 REGEX "^swba simulate-imu: error: duration x imu_rate = 1e\\+11 IMU readings, more than 1e7"
   ARGS simulate-imu --duration 1e9 --out ${_out}/simulate_imu_too_long)
+swba_cli_case(option_given_twice 2 REGEX "^swba run: error: option --max-steps given twice \\(see --help\\)"
+  ARGS run --max-steps 3 --max-steps 4)
 swba_cli_case(unknown_option 2 REGEX "^swba run: error: unknown option '--bogus' \\(see --help\\)" ARGS run --bogus)
 swba_cli_case(unknown_short_option 2 REGEX "^swba ape: error: unknown option '-x'" ARGS ape -x a b)
 swba_cli_case(switch_given_a_value 2 REGEX "error: option '--no-ekf' takes no value" ARGS run --no-ekf=1)
