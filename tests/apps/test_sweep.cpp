@@ -199,7 +199,8 @@ TEST(MergeNees, HandMadeSweep)
 	EXPECT_EQ(r.estimators[0].average.position.mean, (std::vector<double>{1.0, 0.0}));
 	EXPECT_EQ(r.estimators[0].average.pose.mean, (std::vector<double>{1.0, 0.0}));
 	const std::string csv = read(d / "nees" / "nees.csv");
-	EXPECT_NE(csv.find("\nwindow W=5,1,2,1,6,"), std::string::npos) << csv;
+	EXPECT_NE(csv.find("\nwindow W=5,1,2,1,6,"), std::string::npos) << csv;  // 6 = N·d: 2 runs × 3 dof
+	EXPECT_EQ(csv.rfind("label,stamp,runs,position_nees,position_dof_sum,", 0), 0u) << csv;
 	EXPECT_NE(out.str().find("swba nees: 2 runs (seeds 1-2) of sim.ini, 2 steps"), std::string::npos) << out.str();
 	// Mean 1 is inside the band of 2 runs × 3 dof, [χ²₆(0.025), χ²₆(0.975)] / 2 = [0.62, 7.22]; 0 is not: 50 %.
 	EXPECT_NE(out.str().find("\nwindow W=5            2    3   [0.62, 7.22]   50.0 %    0.500"), std::string::npos)

@@ -161,6 +161,9 @@ swba_cli_case(directba_synthetic_writes_no_files 2 REGEX "^swba directba: error:
   ARGS directba --synthetic -q --out ${_out}/directba_synthetic_out)
 swba_cli_case(simulate_imu_too_long 2 REGEX "^swba simulate-imu: error: duration x imu_rate = 1e\\+11 IMU readings, more than 1e7"
   ARGS simulate-imu --duration 1e9 --out ${_out}/simulate_imu_too_long)
+swba_cli_case(help_lists_commands_in_one_column 0 REGEX "\n  ape           absolute pose error.*\n  simulate-imu  an inertial rawlog"
+  ARGS --help)
+swba_cli_case(bal_missing_problem 2 REGEX "^swba bal: error: missing argument\\(s\\): PROBLEM \\(see --help\\)" ARGS bal)
 swba_cli_case(option_given_twice 2 REGEX "^swba run: error: option --max-steps given twice \\(see --help\\)"
   ARGS run --max-steps 3 --max-steps 4)
 swba_cli_case(unknown_option 2 REGEX "^swba run: error: unknown option '--bogus' \\(see --help\\)" ARGS run --bogus)
