@@ -194,8 +194,9 @@ int run_run(int argc, char** argv)
 	RunCommandLine cl;
 	if (auto rc = parse_command_line(cl.cmd, argc, argv, "one rawlog per run; for several, see swba jobs"))
 		return *rc;
-	apps::RunOptions o;
-	if (cl.config.isSet()) apps::load_run_config(cl.config.getValue(), o);  // a bad file: exit 1
+	apps::RunOptions from_file;
+	if (cl.config.isSet()) apps::load_run_config(cl.config.getValue(), from_file);  // a bad file: exit 1
+	apps::RunOptions o = from_file;
 	try
 	{
 		cl.apply(o);
@@ -204,8 +205,6 @@ int run_run(int argc, char** argv)
 	catch (const std::invalid_argument& e)
 	{
 		// Options that exclude each other within the file alone are the file's error (exit 1), named.
-		apps::RunOptions from_file;
-		if (cl.config.isSet()) apps::load_run_config(cl.config.getValue(), from_file);
 		try
 		{
 			if (cl.config.isSet()) from_file.validate();

@@ -47,15 +47,22 @@ std::string nul_note(std::size_t offset)
 }
 }  // namespace
 
+constexpr std::size_t kTextProbeBytes = 64 * 1024;
+
+std::string binary_data_note(std::string_view text)
+{
+	const auto nul = text.substr(0, kTextProbeBytes).find('\0');
+	return nul == std::string_view::npos ? "" : nul_note(nul);
+}
+
 std::string binary_data_note(std::istream& in)
 {
-	std::string head(64 * 1024, '\0');
+	std::string head(kTextProbeBytes, '\0');
 	in.read(head.data(), static_cast<std::streamsize>(head.size()));
 	head.resize(static_cast<std::size_t>(in.gcount()));
 	in.clear();
 	in.seekg(0);
-	const auto nul = head.find('\0');
-	return nul == std::string::npos ? "" : nul_note(nul);
+	return binary_data_note(std::string_view(head));
 }
 
 std::string read_text_file(const std::string& path, const std::string& what_file)

@@ -283,8 +283,7 @@ BalProblem read_bal(const std::string& path)
 										"with bunzip2 first)");
 #endif
 	}
-	std::istringstream start(text);
-	if (const std::string note = binary_data_note(start); !note.empty())
+	if (const std::string note = binary_data_note(std::string_view(text)); !note.empty())
 		throw std::runtime_error("BAL file '" + path + "': " + note);
 	return parse_bal(text, path);
 }

@@ -244,6 +244,7 @@ void write_inertial_plots(const RunOptions& o, const eval::Trajectory& gt, RunRe
 	files.insert(files.end(), rep.files.begin(), rep.files.end());
 	for (const auto& n : rep.notes) log << "note: " << n << "\n";
 }
+
 /** The options given that an inertial rawlog has no use for (range-bearing and MRPT-EKF options that
  * differ from their defaults), by their command-line names. */
 std::vector<std::string> inertial_ignored_options(const RunOptions& o)
@@ -258,7 +259,6 @@ std::vector<std::string> inertial_ignored_options(const RunOptions& o)
 	if (!o.association_truth.empty()) out.push_back("--association-truth");
 	return out;
 }
-
 }  // namespace
 
 std::string inertial_ground_truth_path(const RunOptions& o)

@@ -294,7 +294,8 @@ std::string format_sweep_manifest(const SweepPlan& plan)
 	return j.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n";
 }
 
-void write_sweep(const SweepOptions& options, const SweepPlan& plan, std::ostream& log, bool say_how_to_run, const std::string& program)
+void write_sweep(const SweepOptions& options, const SweepPlan& plan, std::ostream& log, bool say_how_to_run,
+				 const std::string& program)
 {
 	std::error_code ec;
 	fs::create_directories(plan.dir, ec);

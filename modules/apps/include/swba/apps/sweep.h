@@ -119,8 +119,8 @@ std::string format_sweep_manifest(const SweepPlan& plan);
 
 /** Writes the sweep directory (config.ini, config_windows.ini, jobs.txt, jobs.sbatch, sweep.json) and,
  * with `say_how_to_run`, says on `log` how to run the jobs (GNU parallel, Slurm) and merge them; a
- * caller that runs them itself says so instead; `program` names the command in that line. Throws std::runtime_error naming a path that cannot be
- * written. */
+ * caller that runs them itself says so instead; `program` names the command in that line. Throws
+ * std::runtime_error naming a path that cannot be written. */
 void write_sweep(const SweepOptions& options, const SweepPlan& plan, std::ostream& log, bool say_how_to_run = true,
 				 const std::string& program = "swba jobs");
 

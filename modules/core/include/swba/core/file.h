@@ -9,6 +9,7 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <string_view>
 
 namespace swba
 {
@@ -29,6 +30,8 @@ std::string read_text_file(const std::string& path, const std::string& what_file
 /** For readers that stream a text file: "not a text file (a NUL byte at byte N: binary data, e.g. a rawlog)"
  * when the first 64 KiB of `in` hold a NUL byte, else ""; `in` is rewound to its start either way. */
 std::string binary_data_note(std::istream& in);
+/** The same test on the first 64 KiB of `text`, for readers that hold the file in memory. */
+std::string binary_data_note(std::string_view text);
 
 /** Writes `path` through `write`: into "<path>.tmp.<pid>" in the same directory, flushed and closed,
  * then renamed over `path`, so that a reader (or a run interrupted mid-write) never leaves a
