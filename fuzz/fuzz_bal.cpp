@@ -4,21 +4,17 @@
 
 #include <swba/io/bal.h>
 
-#include <exception>
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
 	const std::string bytes = swba::fuzz::as_text(data, size);
-	try
-	{
-		if (bytes.compare(0, 3, "BZh") == 0)
-			(void)swba::io::read_bal(swba::fuzz::write_scratch_file("input.bal", bytes));
-		else
-			(void)swba::io::parse_bal(bytes, "<fuzz>");
-	}
-	catch (const std::exception& e)
-	{
-		swba::fuzz::rejected(e);
-	}
+	swba::fuzz::read_or_reject(
+		[&]
+		{
+			if (bytes.compare(0, 3, "BZh") == 0)
+				(void)swba::io::read_bal(swba::fuzz::write_scratch_file("input.bal", bytes));
+			else
+				(void)swba::io::parse_bal(bytes, "<fuzz>");
+		});
 	return 0;
 }

@@ -27,6 +27,21 @@ inline std::string as_text(const uint8_t* data, size_t size)
  * address space so that a reintroduced unbounded allocation fails there instead of swapping. */
 void rejected(const std::exception& e);
 
+/** The body of every harness: runs `read` (the reader on this input) and hands a std::exception it
+ * throws to rejected(). Anything else it throws escapes, a finding. */
+template <class Read>
+void read_or_reject(Read&& read)
+{
+	try
+	{
+		read();
+	}
+	catch (const std::exception& e)
+	{
+		rejected(e);
+	}
+}
+
 /** A directory private to this process, /tmp/swba_fuzz_<pid>/, created on first use, for readers
  * that only take a path. Files in it are overwritten by each input; libFuzzer runs one input at a
  * time per process, so no locking is needed. The directory is removed at exit. */

@@ -6,7 +6,6 @@
 
 #include <swba/io/directba_dataset.h>
 
-#include <exception>
 #include <string>
 #include <vector>
 
@@ -46,13 +45,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 		else
 			swba::fuzz::remove_scratch_file(file_name(p));
 	}
-	try
-	{
-		(void)swba::io::read_directba_dataset(swba::fuzz::scratch_dir());
-	}
-	catch (const std::exception& e)
-	{
-		swba::fuzz::rejected(e);
-	}
+	swba::fuzz::read_or_reject([] { (void)swba::io::read_directba_dataset(swba::fuzz::scratch_dir()); });
 	return 0;
 }

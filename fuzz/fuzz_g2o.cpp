@@ -4,7 +4,6 @@
 
 #include <swba/io/g2o.h>
 
-#include <exception>
 #include <sstream>
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
@@ -15,16 +14,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 		swba::io::G2oReadOptions options;
 		options.information = policy;
 		std::istringstream in(text);
-		try
-		{
-			const auto graph = swba::io::read_g2o(in, "<fuzz>", options);
-			(void)graph.skipped_summary();
-			(void)graph.repaired_information.summary(graph.num_edges(), options.relative_floor);
-		}
-		catch (const std::exception& e)
-		{
-			swba::fuzz::rejected(e);
-		}
+		swba::fuzz::read_or_reject(
+			[&]
+			{
+				const auto graph = swba::io::read_g2o(in, "<fuzz>", options);
+				(void)graph.skipped_summary();
+				(void)graph.repaired_information.summary(graph.num_edges(), options.relative_floor);
+			});
 	}
 	return 0;
 }

@@ -3,19 +3,11 @@
 
 #include <swba/eval/trajectory.h>
 
-#include <exception>
 #include <sstream>
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
 	std::istringstream in(swba::fuzz::as_text(data, size));
-	try
-	{
-		(void)swba::eval::read_mrpt_ground_truth(in, "<fuzz>");
-	}
-	catch (const std::exception& e)
-	{
-		swba::fuzz::rejected(e);
-	}
+	swba::fuzz::read_or_reject([&] { (void)swba::eval::read_mrpt_ground_truth(in, "<fuzz>"); });
 	return 0;
 }

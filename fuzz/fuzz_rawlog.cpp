@@ -6,7 +6,6 @@
 
 #include <swba/io/rawlog.h>
 
-#include <exception>
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
@@ -16,14 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 	lenient.require_landmark_ids = false;
 	for (const auto& options : {swba::io::RawlogReaderOptions{}, lenient})
 	{
-		try
-		{
-			(void)swba::io::read_rawlog(path, options);
-		}
-		catch (const std::exception& e)
-		{
-			swba::fuzz::rejected(e);
-		}
+		swba::fuzz::read_or_reject([&] { (void)swba::io::read_rawlog(path, options); });
 	}
 	return 0;
 }
