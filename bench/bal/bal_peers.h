@@ -3,20 +3,22 @@
 #pragma once
 
 #include <swba/io/bal.h>
+#include <swba/nonlinear/solver.h>
 
 #include <string>
 #include <vector>
 
 namespace swba::bench
 {
-/** The settings every peer gets. */
+/** The settings every peer gets; the iteration cap and the tolerances default to swba's solver's
+ * (Ceres's Solver::Options has the same defaults). */
 struct PeerSettings
 {
 	int num_threads = 2;
-	int max_iterations = 50;
-	double function_tolerance = 1e-6;
-	double gradient_tolerance = 1e-10;
-	double parameter_tolerance = 1e-8;
+	int max_iterations = SolverOptions{}.max_iterations;
+	double function_tolerance = SolverOptions{}.function_tolerance;
+	double gradient_tolerance = SolverOptions{}.gradient_tolerance;
+	double parameter_tolerance = SolverOptions{}.parameter_tolerance;
 	bool dense = false;        ///< DENSE_SCHUR instead of SPARSE_SCHUR
 	double stop_at_cost = -1;  ///< stop once cost ≤ this (ours only; Ceres's log is used instead)
 };

@@ -1,24 +1,20 @@
 // Cost of the inertial estimators on simulated logs: for each IMU rate, the filter's time per IMU reading
 // and the window's time per keyframe (update, marginalisation, covariance of the newest pose) for
 // W = 10, 20, 30, with the real-time factor (keyframe period / time per keyframe) and APE beside it.
-#include <swba/apps/inertial_simulate.h>
-#include <swba/estimators/inertial_window.h>
-#include <swba/problems/inertial_simulation.h>
+#include "inertial_bench.h"
 
-#include "position_error.h"
+#include <swba/core/timing.h>
 
 #include <algorithm>
-#include <swba/core/timing.h>
 #include <cmath>
 #include <cstdio>
 
 using namespace swba;
 using namespace swba::estimators;
-using namespace swba::problems;
 
 namespace
 {
-double rmse(const InertialTrajectory& tr, const InertialDataset& d, double rate)
+double rmse(const InertialTrajectory& tr, const problems::InertialDataset& d, double rate)
 {
 	double s = 0;
 	for (std::size_t i = 0; i < tr.t.size(); i++) s += bench::squared_position_error(tr.poses[i], tr.t[i], d, rate);
@@ -38,13 +34,13 @@ int main()
 				"real-time x", "APE m");
 	for (double rate : {100.0, 400.0})
 	{
-		InertialSimulationOptions s;
+		problems::InertialSimulationOptions s;
 		s.imu_rate = rate;
 		s.duration = 60;
-		const InertialDataset d = simulate_inertial(s);
-		const InertialInput in = apps::simulated_inertial_input(d);
-		InertialWindowOptions o;
-		o.measurements.noise = d.noise;
+		bench::SimulatedInertialLog log = bench::simulate_inertial_log(s);
+		const problems::InertialDataset& d = log.data;
+		const InertialInput& in = log.input;
+		InertialWindowOptions& o = log.options;
 		const auto t0 = SteadyClock::now();
 		const InertialTrajectory f = run_inertial_filter(in, o.measurements);
 		const double sec = seconds_since(t0);

@@ -4,11 +4,7 @@
 // over all the data, APE translation rmse over the same keyframes. The window's lagged / batch ratio is
 // bounded below by the lag optimum's (doc/inertial.md, "Measured").
 //   swba_inertial_lag_bound [figure8|car] [consumer|tactical] [pose Hz] [odometry Hz] [W] [stride]
-#include <swba/apps/inertial_simulate.h>
-#include <swba/estimators/inertial_window.h>
-#include <swba/problems/inertial_simulation.h>
-
-#include "position_error.h"
+#include "inertial_bench.h"
 
 #include <cmath>
 #include <cstdio>
@@ -40,10 +36,10 @@ int main(int argc, char** argv)
 	if (argc > 4) s.odometry_rate = std::atof(argv[4]);
 	const int W = argc > 5 ? std::atoi(argv[5]) : 30, stride = argc > 6 ? std::atoi(argv[6]) : 20;
 	s.validate();
-	const InertialDataset d = simulate_inertial(s);
-	const InertialInput in = apps::simulated_inertial_input(d);
-	InertialWindowOptions o;
-	o.measurements.noise = d.noise;
+	bench::SimulatedInertialLog log = bench::simulate_inertial_log(s);
+	const InertialDataset& d = log.data;
+	const InertialInput& in = log.input;
+	InertialWindowOptions& o = log.options;
 	o.window_size = W;
 	const InertialWindowResult w = run_inertial_window(in, o);
 	const InertialTrajectory batch = run_inertial_batch(in, o);
