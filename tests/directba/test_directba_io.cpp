@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <unistd.h>
 
 using namespace swba;
@@ -135,6 +136,22 @@ TEST(DirectBAIO, UnreadableImageGivesAnError)
 	expect_error([&] { io::read_directba_dataset(t.dir.string()); }, {"3.png", "cannot decode"});
 	t.write("3.png", "");
 	expect_error([&] { io::read_directba_dataset(t.dir.string()); }, {"3.png", "cannot decode"});
+}
+
+TEST(DirectBAIO, TruncatedPngIsReportedByOffsetAndTheDecoderPrintsNothing)
+{
+	TempDataset t("truncated");
+	std::ifstream in(t.path("3.png"), std::ios::binary);
+	const std::string png((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+	ASSERT_GT(png.size(), 3000u);
+	testing::internal::CaptureStderr();
+	t.write("3.png", png.substr(0, 3000));  // inside the first IDAT chunk
+	expect_error([&] { io::read_directba_dataset(t.dir.string()); }, {"3.png", "truncated PNG", "IDAT", "3000"});
+	t.write("3.png", png.substr(0, 33));  // IHDR whole, nothing after it
+	expect_error([&] { io::read_directba_dataset(t.dir.string()); }, {"3.png", "truncated PNG", "no IEND"});
+	EXPECT_EQ(testing::internal::GetCapturedStderr(), "");  // libpng's own message never comes
+	t.write("3.png", png);
+	EXPECT_NO_THROW(io::load_intensity_image(t.path("3.png")));
 }
 
 TEST(DirectBAIO, WrongColumnCountsAndBadTokensGiveLineNumbers)

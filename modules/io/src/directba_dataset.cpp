@@ -69,25 +69,40 @@ std::uint64_t file_size_or_zero(const std::string& path)
 	return ec ? 0 : static_cast<std::uint64_t>(n);
 }
 
-/** A PNG's declared pixels must fit the budget (8 bytes per pixel covers the decoded image at up to
- * 16 bits × 4 channels, or the float intensity image): checked on the IHDR chunk before any decoder
- * allocates the declared size. Not a PNG, or too short to tell: left to the decoder. */
-void check_png_declared_size(const std::string& path, std::uint64_t budget)
+/** Checks a PNG before any decoder sees it: its declared pixels must fit the budget (8 bytes per pixel
+ * covers the decoded image at up to 16 bits × 4 channels, or the float intensity image), read from the
+ * IHDR chunk before a decoder allocates the declared size; and its chunks must run whole to IEND, so that
+ * a truncated file is reported here, by name and offset, instead of by the decoder's own message on
+ * stderr. Not a PNG, or too short to tell: left to the decoder. */
+void check_png(const std::string& path, std::uint64_t budget)
 {
 	std::ifstream f(path, std::ios::binary);
 	unsigned char h[24] = {};
 	if (!f.read(reinterpret_cast<char*>(h), sizeof h)) return;
 	static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
 	if (!std::equal(sig, sig + 8, h) || std::string(reinterpret_cast<const char*>(h + 12), 4) != "IHDR") return;
-	auto be32 = [&](int i) {
-		return (std::uint64_t(h[i]) << 24) | (std::uint64_t(h[i + 1]) << 16) | (std::uint64_t(h[i + 2]) << 8) |
-			std::uint64_t(h[i + 3]);
+	auto be32 = [](const unsigned char* b) {
+		return (std::uint64_t(b[0]) << 24) | (std::uint64_t(b[1]) << 16) | (std::uint64_t(b[2]) << 8) | std::uint64_t(b[3]);
 	};
-	const std::uint64_t w = be32(16), ht = be32(20);
+	const std::uint64_t w = be32(h + 16), ht = be32(h + 20);
 	if (w * ht * 8 > budget)
 		throw std::runtime_error(path + ": declares " + std::to_string(w) + "x" + std::to_string(ht) +
 								 " pixels, more than the image memory budget of " + std::to_string(budget >> 20) +
 								 " MiB allows (corrupt, or a decompression bomb)");
+	const std::uint64_t size = file_size_or_zero(path);
+	std::uint64_t at = 8;  // each chunk: length (4), type (4), data (length), CRC (4)
+	unsigned char c[8];
+	while (f.seekg(static_cast<std::streamoff>(at)) && f.read(reinterpret_cast<char*>(c), sizeof c))
+	{
+		const std::string type(reinterpret_cast<const char*>(c + 4), 4);
+		const std::uint64_t end = at + 12 + be32(c);
+		if (end > size)
+			throw std::runtime_error(path + ": truncated PNG: its " + type + " chunk at byte " + std::to_string(at) +
+									 " ends at byte " + std::to_string(end) + ", the file at " + std::to_string(size));
+		if (type == "IEND") return;
+		at = end;
+	}
+	throw std::runtime_error(path + ": truncated PNG: no IEND chunk (the file ends at byte " + std::to_string(size) + ")");
 }
 }  // namespace
 
@@ -99,7 +114,7 @@ IntensityImage load_intensity_image(const std::string& path)
 {
 	if (!file_exists(path)) throw std::runtime_error(path + ": image file not found");
 	const std::uint64_t budget = image_memory_budget(file_size_or_zero(path));
-	check_png_declared_size(path, budget);
+	check_png(path, budget);
 	mrpt::img::CImage img;
 	bool ok = false;
 	try
