@@ -39,7 +39,8 @@ std::string non_default_ini()
 		   "[window]\nsizes = 3,4\npolicy = both\nfej = off\nlandmarks = xyz\nmodel = 2d\ngauge = prior\ngauge_prior_weight = 5\n"
 		   "relinearized_poses = 4\nmarginalization_threshold = 0.5\ngate = true\ngate_probability = 0.5\nrobust_loss = huber\n"
 		   "robust_probability = 0.75\ncovariances = false\n"
-		   "association = nn\nreassociate = false\nyoung_landmark_readings = 5\nyoung_readings_test = false\n"
+		   "association = nn\nreassociate = false\nassociation_pose_inflation = 4\nyoung_landmark_readings = 5\n"
+		   "young_readings_test = false\n"
 		   "[solver]\nmax_iterations = 4\nfunction_tolerance = 0.5\ngradient_tolerance = 0.25\n"
 		   "parameter_tolerance = 0.125\nlinear_solver = dense-normal\ndense_max_dim = 9\nthreads = 2\n"
 		   "[ekf]\nenabled = false\nmethods = kfIKFFull\nini_file = x.ini\n"
@@ -81,6 +82,7 @@ TEST(RunConfig, NonDefaultIniSetsEveryKey)
 	EXPECT_FALSE(o.window.covariances);
 	EXPECT_EQ(o.window.association, swba::estimators::DataAssociation::NearestNeighbour);
 	EXPECT_FALSE(o.window.reassociate);
+	EXPECT_DOUBLE_EQ(o.window.association_pose_inflation, 4.0);
 	EXPECT_EQ(o.inertial.measurements.keyframes, swba::estimators::KeyframeTimes::PoseReadings);
 	EXPECT_EQ(o.inertial.gauge, swba::GaugeMode::Fixed);
 	EXPECT_DOUBLE_EQ(o.inertial.measurements.noise.gyro_noise_density, 0.25);

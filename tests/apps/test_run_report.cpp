@@ -360,6 +360,7 @@ TEST(RunSummaryJson, ReadingCountsPerEstimator)
 	c.readmitted = 2;
 	c.reassociated = 4;
 	c.ambiguous = 5;
+	c.rematched = 8;
 	c.unconfirmed = 1;
 	c.excluded = 6;
 	c.down_weighted = 3;
@@ -370,13 +371,15 @@ TEST(RunSummaryJson, ReadingCountsPerEstimator)
 	const Json& with = j["estimators"][1];
 	ASSERT_TRUE(with["readings"].is_object());
 	EXPECT_EQ(keys_of(with["readings"]),
-			  (std::vector<std::string>{"processed", "gated", "readmitted", "reassociated", "ambiguous", "unconfirmed",
-										"excluded", "down_weighted", "young_held_steps", "association_cut"}));
+			  (std::vector<std::string>{"processed", "gated", "readmitted", "reassociated", "ambiguous", "rematched",
+										"unconfirmed", "excluded", "down_weighted", "young_held_steps",
+										"association_cut"}));
 	EXPECT_EQ(with["readings"]["processed"], 100);
 	EXPECT_EQ(with["readings"]["gated"], 7);
 	EXPECT_EQ(with["readings"]["readmitted"], 2);
 	EXPECT_EQ(with["readings"]["reassociated"], 4);
 	EXPECT_EQ(with["readings"]["ambiguous"], 5);
+	EXPECT_EQ(with["readings"]["rematched"], 8);
 	EXPECT_EQ(with["readings"]["unconfirmed"], 1);
 	EXPECT_EQ(with["readings"]["excluded"], 6);
 	EXPECT_EQ(with["readings"]["down_weighted"], 3);

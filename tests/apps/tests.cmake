@@ -196,18 +196,25 @@ swba_cli_case(association_after_drift 0
   ARGS run ${_out}/da_drift/da_6D_600_seed2.rawlog --max-steps 120 --windows 10 --causal --no-ekf --no-batch --no-plots
        --gate on --robust-loss none --no-progress --out ${_out}/da_drift/run)
 set_tests_properties(apps.cli.association_after_drift PROPERTIES FIXTURES_REQUIRED da_drift)
-# Nearest neighbour on the same run creates one duplicate landmark (a reading after the drift outside
-# every gate, then confirmed); re-association inside the window merges it back (2 readings moved).
+# Nearest neighbour on the same run: the reading after the drift that falls outside every gate is matched
+# by the second test with the pose's covariance inflated, so no duplicate is created (1 such match).
+swba_cli_case(association_nn_no_duplicate_after_drift 0
+  REGEX "window W=10: association 100\\.00 % correct .* 20 landmarks for 20 true, 0 duplicate, 0 spurious, 0 re-associated in the window, 0 ambiguous on arrival, 1 matched with the pose's covariance inflated"
+  ARGS run ${_out}/da_drift/da_6D_600_seed2.rawlog --max-steps 120 --windows 10 --association nn --no-ekf --no-batch
+       --gate on --robust-loss none --no-plots --no-progress --out ${_out}/da_drift/run_nn_inflated)
+# Without that test (association_pose_inflation = 1) the reading starts a duplicate landmark, then
+# confirmed; re-association inside the window merges it back (2 readings moved), or keeps it when off.
 swba_cli_case(association_nn_merges_duplicate 0
   REGEX "window W=10: association 100\\.00 % correct .* 20 landmarks for 20 true, 0 duplicate, 0 spurious, 2 re-associated in the window"
   ARGS run ${_out}/da_drift/da_6D_600_seed2.rawlog --max-steps 120 --windows 10 --association nn --no-ekf --no-batch
+       --config ${_data}/no_pose_inflation.ini
        --gate on --robust-loss none --no-plots --no-progress --out ${_out}/da_drift/run_nn)
 swba_cli_case(association_nn_keeps_duplicate 0
   REGEX "window W=10: association 99\\.49 % correct .* 21 landmarks for 20 true, 1 duplicate, 0 spurious, 0 re-associated in the window"
   ARGS run ${_out}/da_drift/da_6D_600_seed2.rawlog --max-steps 120 --windows 10 --association nn --no-ekf --no-batch
        --config ${_data}/no_reassociate.ini --gate on --robust-loss none --no-plots --no-progress --out ${_out}/da_drift/run_nn_kept)
-set_tests_properties(apps.cli.association_nn_merges_duplicate apps.cli.association_nn_keeps_duplicate
-  PROPERTIES FIXTURES_REQUIRED da_drift)
+set_tests_properties(apps.cli.association_nn_no_duplicate_after_drift apps.cli.association_nn_merges_duplicate
+  apps.cli.association_nn_keeps_duplicate PROPERTIES FIXTURES_REQUIRED da_drift)
 
 # The output directory is created and checked before any estimator runs: the full demo with the
 # causal optimum (minutes of estimation) must fail at once (TIMEOUT), naming the directory and why.

@@ -243,6 +243,53 @@ TEST(WindowAssociation, AReadingGivenTheWrongLandmarkIsReassociatedAndTheEstimat
 	EXPECT_LT((b_of(*nn, assigned.at(0).at(0)) - b_of(*ids, 1)).norm(), 1e-6);  // A
 }
 
+/** A scene for the second test of unmatched readings: landmark A = (4, 0) seen from the origin on steps
+ * 0–4 (odometry σ 1 mm). Step 5: the robot slips 0.5 m to (0, −0.5) while its odometry reports no motion
+ * with σ 5 cm (overconfident: a 10σ error), and reads A and a landmark C = (4, 3) never seen before.
+ * From the dead-reckoned pose A's reading is 0.5 m from A's prediction, whose σ is about 5 cm (d² ≈ 94,
+ * outside the gate of 16.3); with the pose's covariance × 9 it is inside (d² ≈ 11); C's reading is 3 m
+ * from A either way. */
+swba::io::RawlogStep slip_step(std::size_t k)
+{
+	const double y = k < 5 ? 0.0 : -0.5;
+	std::vector<std::pair<std::int32_t, Eigen::Vector2d>> marks = {{1, {4.0, 0.0}}};
+	if (k == 5) marks.push_back({2, {4.0, 3.0}});
+	swba::io::RawlogStep s;
+	s.index = k;
+	s.has_odometry = true;
+	Eigen::Matrix<double, 6, 1> sigma = Eigen::Matrix<double, 6, 1>::Constant(1e-3);
+	if (k == 5) sigma.head<2>().setConstant(0.05);  // MRPT's order: x, y, z, yaw, pitch, roll
+	s.odometry.cov = Eigen::Matrix<double, 6, 6>(sigma.cwiseAbs2().asDiagonal());
+	s.has_observation = true;
+	s.sensor_std_range = 0.01;
+	s.sensor_std_yaw = s.sensor_std_pitch = 0.1 * M_PI / 180;
+	for (const auto& [id, p] : marks)
+		s.readings.push_back({id, std::hypot(p.x(), p.y() - y), std::atan2(p.y() - y, p.x()), 0.0});
+	return s;
+}
+
+TEST(WindowAssociation, AReadingOfAKnownLandmarkOutsideItsGateIsMatchedWithThePoseInflatedNotANewLandmark)
+{
+	const auto run = [](double inflation) {
+		swba::estimators::SlidingWindowOptions o;
+		o.window_size = 20;
+		o.model = swba::estimators::PoseModel::Spatial;
+		o.association = DataAssociation::Jcbb;
+		o.association_pose_inflation = inflation;
+		auto est = std::make_unique<swba::estimators::SlidingWindowEstimator>(o);
+		for (std::size_t k = 0; k < 6; k++) est->process(slip_step(k));
+		return est;
+	};
+	const auto with = run(9.0), without = run(1.0);
+	const auto a = with->assigned_ids(), b = without->assigned_ids();
+	ASSERT_EQ(a.at(5).size(), 2u);
+	EXPECT_EQ(a.at(5).at(0), a.at(0).at(0)) << "A's reading after the slip should be A's";
+	EXPECT_NE(a.at(5).at(1), a.at(0).at(0)) << "C's reading should start its own landmark";
+	EXPECT_EQ(with->reading_counts().rematched, 1u);
+	EXPECT_NE(b.at(5).at(0), b.at(0).at(0)) << "without the second test A's reading starts a duplicate";
+	EXPECT_EQ(without->reading_counts().rematched, 0u);
+}
+
 /** The true landmark of every reading of mrpt-common's kf-slam_6D_demo_DA (the simulator's files). */
 swba::estimators::ReadingIds demo_da_truth(const swba::io::Rawlog& rawlog)
 {

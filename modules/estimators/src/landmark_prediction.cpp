@@ -219,6 +219,12 @@ void LandmarkPredictor::target_jacobian(std::size_t k, const PredictionTarget& t
 	}
 }
 
+JointPrediction with_pose_covariance_scaled(JointPrediction pred, int pose_dim, double factor)
+{
+	pred.covariance.topLeftCorner(pose_dim, pose_dim) *= factor;
+	return pred;
+}
+
 Eigen::MatrixXd JointPrediction::covariance_of(int a, int b, int dim) const
 {
 	Eigen::MatrixXd S = Eigen::MatrixXd::Zero(dim, dim);

@@ -69,6 +69,11 @@ struct JointPrediction
 	Eigen::MatrixXd covariance_of(int a, int b, int dim) const;
 };
 
+/** `pred` with the new pose's covariance (the group's leading `pose_dim` block) multiplied by `factor`
+ * (≥ 1) and its correlations with the other variables unchanged: an independent pose error of
+ * (factor − 1) times the pose's covariance added, the landmarks' own uncertainty as it was. */
+JointPrediction with_pose_covariance_scaled(JointPrediction pred, int pose_dim, double factor);
+
 /** What match_readings decided, per reading. */
 struct ReadingMatch
 {

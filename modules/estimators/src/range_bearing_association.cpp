@@ -67,9 +67,10 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 	if (!pred.ok)
 		throw std::runtime_error("data association at step " + std::to_string(k) +
 								 ": the window's covariance cannot be recovered (" + pred.message + ")");
-	const ReadingMatch match =
+	ReadingMatch match =
 		match_readings(readings, pred, cand.size(), association_, opt_.gate_probability, reading_dof());
 	if (match.search_cut) counts_.association_cut++;
+	if (opt_.association_pose_inflation > 1) counts_.rematched += rematch_with_inflated_pose(readings, cand, pred, k, match);
 	assigned.clear();
 	matched.assign(readings.size(), false);
 	for (std::size_t i = 0; i < readings.size(); i++)
@@ -83,6 +84,37 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 		readings[i].first = id;
 		assigned.push_back(id);
 	}
+}
+
+std::size_t RangeBearingGraph::rematch_with_inflated_pose(
+	const std::vector<std::pair<std::int32_t, Observation>>& readings, const std::vector<PredictionTarget>& cand,
+	const JointPrediction& pred, std::size_t k, ReadingMatch& match) const
+{
+	std::vector<std::size_t> unmatched;
+	std::vector<std::pair<std::int32_t, Observation>> again;
+	std::set<int> taken;
+	for (std::size_t i = 0; i < readings.size(); i++)
+		if (match.target[i] < 0)
+		{
+			unmatched.push_back(i);
+			again.push_back(readings[i]);
+		}
+		else
+			taken.insert(match.target[i]);
+	if (unmatched.empty()) return 0;
+	const int pose_dim = smoother_.problem().variable(poses_[k].var).manifold->tangent_size();
+	const JointPrediction wider = with_pose_covariance_scaled(pred, pose_dim, opt_.association_pose_inflation);
+	const ReadingMatch second =
+		match_readings(again, wider, cand.size(), association_, opt_.gate_probability, reading_dof());
+	std::size_t n = 0;
+	for (std::size_t u = 0; u < unmatched.size(); u++)
+	{
+		const int j = second.target[u];
+		if (j < 0 || !cand[static_cast<std::size_t>(j)].lm || !taken.insert(j).second) continue;
+		match.target[unmatched[u]] = j;
+		n++;
+	}
+	return n;
 }
 
 std::vector<PredictionTarget> RangeBearingGraph::association_candidates(

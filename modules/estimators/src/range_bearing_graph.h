@@ -223,6 +223,13 @@ class RangeBearingGraph
 	/** The candidates of data association (the graph's landmarks, the provisional ones, the map's) and
 	 * their IDs in `ids`, in that order. */
 	std::vector<PredictionTarget> association_candidates(std::vector<std::int32_t>& ids) const;
+	/** The association's second test (SlidingWindowOptions::association_pose_inflation): the readings
+	 * `match` leaves unmatched, against the state's landmarks among `cand` that it left untaken, with
+	 * the pose's covariance in `pred` inflated; those it matches get their target in `match`. Returns
+	 * how many. */
+	std::size_t rematch_with_inflated_pose(const std::vector<std::pair<std::int32_t, Observation>>& readings,
+										   const std::vector<PredictionTarget>& cand, const JointPrediction& pred,
+										   std::size_t k, ReadingMatch& match) const;
 	/** Known IDs: the readings of step k that admit_reading held (its pose covariance is the odometry's
 	 * alone) are tested again against the window's joint covariance (predict_jointly); those inside the
 	 * gate enter now. After a long stretch without readings the drift is far beyond one step's

@@ -48,6 +48,9 @@ void SlidingWindowOptions::validate() const
 		throw std::invalid_argument("gate probability must be in (0, 1), got " + std::to_string(gate_probability));
 	if (!(robust_probability > 0 && robust_probability < 1))
 		throw std::invalid_argument("robust-loss probability must be in (0, 1), got " + std::to_string(robust_probability));
+	if (!(association_pose_inflation >= 1))
+		throw std::invalid_argument("association pose inflation must be >= 1 (1: off), got " +
+									std::to_string(association_pose_inflation));
 	if (young_landmark_readings < 0)
 		throw std::invalid_argument("young landmark readings must be >= 0, got " + std::to_string(young_landmark_readings));
 	if (policy == LandmarkPolicy::Map && gauge == GaugeMode::Free)
@@ -133,6 +136,10 @@ IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& 
 					"data association: move a window reading that no longer fits its landmark to the one it fits "
 					"(doc/association.md)",
 					&O::reassociate),
+		number_key<O>(section, "association_pose_inflation", "number >= 1",
+					  "data association: a reading that would start a landmark is tested again with the pose's "
+					  "covariance times this (1 = off; doc/association.md)",
+					  &O::association_pose_inflation, parse_positive),
 		int_key<O>(section, "young_landmark_readings", "integer >= 0",
 				   "a pose with a reading of a landmark read fewer times than this stays re-linearised, so the "
 				   "reading's robust weight is not frozen yet (doc/window.md); 0 = never",

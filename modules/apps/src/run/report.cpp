@@ -194,7 +194,8 @@ ordered_json readings_object(const estimators::ReadingCounts& c)
 	const std::pair<const char*, std::size_t> counts[] = {
 		{"processed", c.readings},         {"gated", c.gated},
 		{"readmitted", c.readmitted},      {"reassociated", c.reassociated},
-		{"ambiguous", c.ambiguous},        {"unconfirmed", c.unconfirmed},
+		{"ambiguous", c.ambiguous},        {"rematched", c.rematched},
+		{"unconfirmed", c.unconfirmed},
 		{"excluded", c.excluded},          {"down_weighted", c.down_weighted},
 		{"young_held_steps", c.young_held_steps}, {"association_cut", c.association_cut}};
 	ordered_json j;

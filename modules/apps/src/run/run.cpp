@@ -372,7 +372,8 @@ std::string format_association_note(const RunRow& r)
 	std::string note = buf;
 	if (r.name == "window" && r.reading_counts)
 		note += ", " + std::to_string(r.reading_counts->reassociated) + " re-associated in the window, " +
-				std::to_string(r.reading_counts->ambiguous) + " ambiguous on arrival";
+				std::to_string(r.reading_counts->ambiguous) + " ambiguous on arrival, " +
+				std::to_string(r.reading_counts->rematched) + " matched with the pose's covariance inflated";
 	return note;
 }
 

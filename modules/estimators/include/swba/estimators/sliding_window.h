@@ -158,6 +158,14 @@ struct SlidingWindowOptions
 	 * "Re-association"). Decisions are revisited while their pose is in the window, not after it left.
 	 * Default true. */
 	bool reassociate = true;
+	/** Data association only: a reading the association leaves unmatched, which would start a landmark,
+	 * is tested again — against the state's landmarks no other reading of its step took — with the new
+	 * pose's covariance multiplied by this factor (its σ by the square root) and the landmarks' and the
+	 * reading's own noise unchanged, so that the step's readings are still tested jointly as tightly.
+	 * Real odometry makes the pose overconfident relative to the map (errors correlated over steps:
+	 * 3.5–7 times in variance on the real logs), and a reading of a known landmark that starts a new one
+	 * is what loses the map there (doc/realdata.md). 1 = off. Default 9 (the pose's σ × 3). */
+	double association_pose_inflation = 9.0;
 	/** A pose whose readings include one of a landmark given fewer than this many readings so far stays
 	 * re-linearised (beyond relinearized_poses, within window_size), with a robust loss. Such a
 	 * landmark is still fitted to those readings, so marginalising them would freeze their robust weight
@@ -190,7 +198,8 @@ struct SlidingWindowOptions
 	 * marginalization_threshold. The members solver, sensor and odometry have their own keys
 	 * (SolverOptions::ini_keys etc.); window_size, policy and FEJ are chosen per run by the application.
 	 * Also the outlier keys: gate, gate_probability, robust_loss, robust_probability; covariances;
-	 * association and reassociate; young_landmark_readings and young_readings_test. */
+	 * association, reassociate and association_pose_inflation; young_landmark_readings and
+	 * young_readings_test. */
 	static IniKeys<SlidingWindowOptions> ini_keys(const std::string& section);
 };
 
@@ -244,6 +253,9 @@ struct ReadingCounts
 	 * they arrived (inside the χ² gate of each against the window's joint prediction), which one
 	 * reading alone cannot decide between. */
 	std::size_t ambiguous = 0;
+	/** Window, data association: readings left unmatched by the association that the second test with
+	 * the pose's covariance inflated gave a landmark of the state (association_pose_inflation). */
+	std::size_t rematched = 0;
 	/** Window, JCBB: steps whose association search stopped at its node budget and kept the best
 	 * pairing found so far (estimators::associate). */
 	std::size_t association_cut = 0;
