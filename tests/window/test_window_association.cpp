@@ -153,6 +153,23 @@ TEST(AssociationQuality, CountsCorrectDuplicateAndSpuriousLandmarks)
 	EXPECT_DOUBLE_EQ(perfect.fraction_correct(), 1.0);
 }
 
+/** A step of a robot at (0, y) on the plane z = 0 reading the landmarks `marks` (ID, position), with
+ * odometry σ `odometry_sigma` (MRPT's order: x, y, z, yaw, pitch, roll), range σ 1 cm, bearing σ 0.1°. */
+swba::io::RawlogStep scene_step(std::size_t k, double y, const std::vector<std::pair<std::int32_t, Eigen::Vector2d>>& marks,
+								const Eigen::Matrix<double, 6, 1>& odometry_sigma)
+{
+	swba::io::RawlogStep s;
+	s.index = k;
+	s.has_odometry = true;
+	s.odometry.cov = Eigen::Matrix<double, 6, 6>(odometry_sigma.cwiseAbs2().asDiagonal());
+	s.has_observation = true;
+	s.sensor_std_range = 0.01;
+	s.sensor_std_yaw = s.sensor_std_pitch = 0.1 * M_PI / 180;
+	for (const auto& [id, p] : marks)
+		s.readings.push_back({id, std::hypot(p.x(), p.y() - y), std::atan2(p.y() - y, p.x()), 0.0});
+	return s;
+}
+
 /** A scene for re-association: landmarks A = (4, 0) and B = (4, 0.4), 0.4 m apart, and twenty more on
  * rings 6–10 m out, all on the plane z = 0. Steps 0–4: the robot stands at the origin (odometry σ 1 mm)
  * and sees all of them. Step 5: it moves 0.4 m to (0, −0.4) while the odometry reports no motion with
@@ -168,19 +185,9 @@ swba::io::RawlogStep reassociation_step(std::size_t k)
 		const double a = 2 * M_PI * i / 20 + 0.1, r = 6.0 + 2.0 * (i % 3);
 		marks.push_back({10 + i, {r * std::cos(a), r * std::sin(a)}});
 	}
-	const double y = k < 5 ? 0.0 : -0.4;
-	swba::io::RawlogStep s;
-	s.index = k;
-	s.has_odometry = true;
 	Eigen::Matrix<double, 6, 1> sigma = Eigen::Matrix<double, 6, 1>::Constant(1e-3);
-	if (k == 5) sigma << 0.3, 0.3, 1e-3, 0.02, 1e-3, 1e-3;  // MRPT's order: x, y, z, yaw, pitch, roll
-	s.odometry.cov = Eigen::Matrix<double, 6, 6>(sigma.cwiseAbs2().asDiagonal());
-	s.has_observation = true;
-	s.sensor_std_range = 0.01;
-	s.sensor_std_yaw = s.sensor_std_pitch = 0.1 * M_PI / 180;
-	for (const auto& [id, p] : marks)
-		s.readings.push_back({id, std::hypot(p.x(), p.y() - y), std::atan2(p.y() - y, p.x()), 0.0});
-	return s;
+	if (k == 5) sigma << 0.3, 0.3, 1e-3, 0.02, 1e-3, 1e-3;
+	return scene_step(k, k < 5 ? 0.0 : -0.4, marks, sigma);
 }
 
 /** Runs the scene with `association` (and reassociate as given); returns the estimator after step 7. */
@@ -254,18 +261,9 @@ swba::io::RawlogStep slip_step(std::size_t k)
 	const double y = k < 5 ? 0.0 : -0.5;
 	std::vector<std::pair<std::int32_t, Eigen::Vector2d>> marks = {{1, {4.0, 0.0}}};
 	if (k == 5) marks.push_back({2, {4.0, 3.0}});
-	swba::io::RawlogStep s;
-	s.index = k;
-	s.has_odometry = true;
 	Eigen::Matrix<double, 6, 1> sigma = Eigen::Matrix<double, 6, 1>::Constant(1e-3);
-	if (k == 5) sigma.head<2>().setConstant(0.05);  // MRPT's order: x, y, z, yaw, pitch, roll
-	s.odometry.cov = Eigen::Matrix<double, 6, 6>(sigma.cwiseAbs2().asDiagonal());
-	s.has_observation = true;
-	s.sensor_std_range = 0.01;
-	s.sensor_std_yaw = s.sensor_std_pitch = 0.1 * M_PI / 180;
-	for (const auto& [id, p] : marks)
-		s.readings.push_back({id, std::hypot(p.x(), p.y() - y), std::atan2(p.y() - y, p.x()), 0.0});
-	return s;
+	if (k == 5) sigma.head<2>().setConstant(0.05);
+	return scene_step(k, y, marks, sigma);
 }
 
 TEST(WindowAssociation, AReadingOfAKnownLandmarkOutsideItsGateIsMatchedWithThePoseInflatedNotANewLandmark)
