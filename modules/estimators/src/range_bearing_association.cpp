@@ -70,7 +70,8 @@ void RangeBearingGraph::associate_readings(std::vector<std::pair<std::int32_t, O
 	ReadingMatch match =
 		match_readings(readings, pred, cand.size(), association_, opt_.gate_probability, reading_dof());
 	if (match.search_cut) counts_.association_cut++;
-	if (opt_.association_pose_inflation > 1) counts_.rematched += rematch_with_inflated_pose(readings, cand, pred, k, match);
+	if (opt_.association_pose_inflation > 1)
+		counts_.rematched += rematch_with_inflated_pose(readings, cand, pred, k, match);
 	assigned.clear();
 	matched.assign(readings.size(), false);
 	for (std::size_t i = 0; i < readings.size(); i++)

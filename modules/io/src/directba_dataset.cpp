@@ -73,8 +73,8 @@ std::uint64_t file_size_or_zero(const std::string& path)
  * covers the decoded image at up to 16 bits × 4 channels, or the float intensity image), read from the
  * IHDR chunk before a decoder allocates the declared size; and its chunks must run whole to IEND, so that
  * a truncated file is reported here, by name and offset, instead of by the decoder's own message on
- * stderr. Not a PNG, or too short to tell: left to the decoder. */
-void check_png(const std::string& path, std::uint64_t budget)
+ * stderr (`size`: the file's, in bytes). Not a PNG, or too short to tell: left to the decoder. */
+void check_png(const std::string& path, std::uint64_t size, std::uint64_t budget)
 {
 	std::ifstream f(path, std::ios::binary);
 	unsigned char h[24] = {};
@@ -89,7 +89,6 @@ void check_png(const std::string& path, std::uint64_t budget)
 		throw std::runtime_error(path + ": declares " + std::to_string(w) + "x" + std::to_string(ht) +
 								 " pixels, more than the image memory budget of " + std::to_string(budget >> 20) +
 								 " MiB allows (corrupt, or a decompression bomb)");
-	const std::uint64_t size = file_size_or_zero(path);
 	std::uint64_t at = 8;  // each chunk: length (4), type (4), data (length), CRC (4)
 	unsigned char c[8];
 	while (f.seekg(static_cast<std::streamoff>(at)) && f.read(reinterpret_cast<char*>(c), sizeof c))
@@ -113,8 +112,8 @@ PinholeIntrinsics directba_dataset_intrinsics() { return {277.34, 291.402, 312.2
 IntensityImage load_intensity_image(const std::string& path)
 {
 	if (!file_exists(path)) throw std::runtime_error(path + ": image file not found");
-	const std::uint64_t budget = image_memory_budget(file_size_or_zero(path));
-	check_png(path, budget);
+	const std::uint64_t size = file_size_or_zero(path), budget = image_memory_budget(size);
+	check_png(path, size, budget);
 	mrpt::img::CImage img;
 	bool ok = false;
 	try
