@@ -32,6 +32,7 @@ struct Synth
 	bool odometry = true;
 	bool bearing_range = true;
 	int nan_reading_step = -1;
+	bool own_covariance = false;  ///< validCovariances, every reading σ 0.02 m / 0.004 rad
 };
 
 void write_synth(const std::string& path, const Synth& so)
@@ -49,6 +50,7 @@ void write_synth(const std::string& path, const Synth& so)
 			obs->sensor_std_range = 0.01f;
 			obs->sensor_std_yaw = 0.002f;
 			obs->sensor_std_pitch = 0.002f;
+			obs->validCovariances = so.own_covariance;
 			for (int j = 0; j < 4; j++)
 			{
 				const auto l = robot.inverseComposePoint(
@@ -59,6 +61,9 @@ void write_synth(const std::string& path, const Synth& so)
 				m.yaw = static_cast<float>(std::atan2(l.y, l.x));
 				m.pitch = static_cast<float>(-std::asin(l.z / l.norm()));
 				if (i == so.nan_reading_step && j == 2) m.range = std::numeric_limits<float>::quiet_NaN();
+				m.covariance.setZero();
+				m.covariance(0, 0) = 4e-4;
+				m.covariance(1, 1) = m.covariance(2, 2) = 1.6e-5;
 				obs->sensedData.push_back(m);
 			}
 			sf.insert(obs);
@@ -191,6 +196,24 @@ TEST(RunAppErrors, NanReadingIsCountedAndTheRunCompletes)
 	const auto& batch = report.rows[report.rows.size() - 2];  // then batch_alt, the other start
 	ASSERT_EQ(batch.name, "batch");
 	EXPECT_NEAR(batch.estimate.poses.back().x(), 0.3 * 8, 1e-3);
+}
+
+TEST(RunAppErrors, PerReadingCovariancesAreCountedAndTheEkfRowSaysItDoesNotUseThem)
+{
+	const auto d = temp_dir();
+	const std::string path = (d / "own.rawlog").string();
+	Synth so;
+	so.own_covariance = true;
+	write_synth(path, so);
+	std::ostringstream out, log;
+	const auto report = swba::apps::run_app(quick_options(d, path), out, log);
+	EXPECT_NE(log.str().find("32 readings, 32 with their own covariance (validCovariances"), std::string::npos)
+		<< log.str();
+	bool ekf_note = false;
+	for (const auto& n : report.notes)
+		ekf_note |= n.find("32 readings carry their own covariance") != std::string::npos;
+	EXPECT_TRUE(ekf_note);
+	for (const auto& r : report.rows) EXPECT_FALSE(r.failed) << r.label << ": " << r.failure;
 }
 
 namespace

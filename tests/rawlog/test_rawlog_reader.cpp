@@ -67,6 +67,11 @@ struct SynthOptions
 	int32_t id_offset = 1;	// landmark IDs: id_offset + i (negative → unknown)
 	double bad_range = 1.0;	 // range of reading 1 of step 2
 	double bad_yaw = 0.1;
+	/** validCovariances with reading j's covariance diag(0.01, 1e-4, 4e-4)·(j + 1)² (σ 0.1, 0.01, 0.02
+	 * times j + 1); `correlated`: range and yaw correlated in step 3's second reading. */
+	bool own_covariance = false;
+	bool correlated = false;
+	double bad_range_variance = 0.01;  ///< range variance of reading 1 of step 2 (× 4), with own_covariance
 };
 
 void write_synth(const std::string& path, const SynthOptions& so, bool gz = true)
@@ -87,6 +92,7 @@ void write_synth(const std::string& path, const SynthOptions& so, bool gz = true
 			obs->sensor_std_yaw = 0.002f;
 			obs->sensor_std_pitch = 0.002f;
 			obs->sensorLocationOnRobot = mrpt::poses::CPose3D(0.1, 0, 0, 0, 0, 0);
+			obs->validCovariances = so.own_covariance;
 			for (int j = 0; j < 3; j++)
 			{
 				mrpt::obs::CObservationBearingRange::TMeasurement m;
@@ -94,6 +100,12 @@ void write_synth(const std::string& path, const SynthOptions& so, bool gz = true
 				m.range = (i == 2 && j == 1) ? float(so.bad_range) : 2.0f + float(j);
 				m.yaw = (i == 2 && j == 1) ? float(so.bad_yaw) : 0.1f * float(j);
 				m.pitch = 0.0f;
+				const double f = (j + 1.0) * (j + 1.0);
+				m.covariance.setZero();
+				m.covariance(0, 0) = (i == 2 && j == 1 ? so.bad_range_variance : 0.01) * f;
+				m.covariance(1, 1) = 1e-4 * f;
+				m.covariance(2, 2) = 4e-4 * f;
+				if (so.correlated && i == 4 && j == 1) m.covariance(0, 1) = m.covariance(1, 0) = 1e-4;
 				obs->sensedData.push_back(m);
 			}
 			sf.insert(obs);
@@ -323,6 +335,49 @@ TEST(RawlogReader, NoBearingRangeObservations)
 	const std::string msg = expect_error(path);
 	EXPECT_NE(msg.find(path), std::string::npos) << msg;
 	EXPECT_NE(msg.find("no valid bearing-range observation"), std::string::npos) << msg;
+}
+
+TEST(RawlogReader, PerReadingCovariancesAreTheReadingsOwnNoise)
+{
+	const auto d = temp_dir();
+	const std::string path = (d / "own.rawlog").string();
+	SynthOptions so;
+	write_synth(path, so);
+	const auto plain = read_rawlog(path);
+	EXPECT_EQ(plain.readings_with_own_noise, 0u);
+	EXPECT_FALSE(plain.steps[0].readings[0].has_own_noise());
+
+	so.own_covariance = true;
+	write_synth(path, so);
+	const auto own = read_rawlog(path);
+	EXPECT_EQ(own.readings_with_own_noise, 15u);
+	const auto& r = own.steps[3].readings[2];
+	ASSERT_TRUE(r.has_own_noise());
+	EXPECT_NEAR(r.std_range, 0.3, 1e-12);
+	EXPECT_NEAR(r.std_yaw, 0.03, 1e-12);
+	EXPECT_NEAR(r.std_pitch, 0.06, 1e-12);
+
+	// A correlation is not dropped silently: the reading, its step and the file are named.
+	so.correlated = true;
+	write_synth(path, so);
+	const std::string msg = expect_error(path);
+	EXPECT_NE(msg.find(path), std::string::npos) << msg;
+	EXPECT_NE(msg.find("step 3"), std::string::npos) << msg;
+	EXPECT_NE(msg.find("reading 1"), std::string::npos) << msg;
+	EXPECT_NE(msg.find("correlates range, yaw and pitch"), std::string::npos) << msg;
+
+	// A variance that is not finite and > 0 makes the reading invalid: skipped, counted and said.
+	so.correlated = false;
+	for (double v : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN()})
+	{
+		so.bad_range_variance = v;
+		write_synth(path, so);
+		const auto log = read_rawlog(path);
+		EXPECT_EQ(log.skipped_readings, 1u);
+		EXPECT_EQ(log.readings_with_own_noise, 14u);
+		ASSERT_EQ(log.warnings.size(), 1u);
+		EXPECT_NE(log.warnings[0].find("variance"), std::string::npos) << log.warnings[0];
+	}
 }
 
 TEST(RawlogReader, BadReadingsSkippedAndCounted)

@@ -162,6 +162,58 @@ TEST(Outliers, GateFollowsTheReadingsWhenTheOdometryIsFiveSigmaOff)
 	}
 }
 
+/** The pose after ten steps still and one 0.2 m on (step_at, odometry σ 0.04 m), least squares with
+ * neither gate nor loss, where the last step's 1 m range outlier is `last` (kept, declared with its
+ * own σ of 100 m and 100 rad: io::RangeBearingReading::has_own_noise, or dropped). */
+enum class Outlier
+{
+	Kept,
+	OwnNoise,
+	Dropped
+};
+mrpt::poses::CPose3D pose_with_outlier(Outlier last)
+{
+	SlidingWindowOptions o;
+	o.window_size = 5;
+	o.robust_loss = RobustLoss::None;
+	SlidingWindowEstimator est(o);
+	for (std::size_t k = 0; k < 10; k++) est.process(step_at(k, 0.0, 0.04, false));
+	io::RawlogStep s = step_at(10, 0.2, 0.04, true);
+	if (last == Outlier::OwnNoise) s.readings[0].std_range = s.readings[0].std_yaw = s.readings[0].std_pitch = 100;
+	if (last == Outlier::Dropped) s.readings.erase(s.readings.begin());
+	est.process(s);
+	return est.current_pose();
+}
+
+TEST(Outliers, AReadingsOwnNoiseIsItsWeight)
+{
+	// A reading whose observation declares per-reading covariances (validCovariances) is weighted by
+	// its own σ, not the observation's: declared 100 m, the 1 m outlier moves the pose as little as
+	// when it is not there; with the observation's 1 cm it pulls the pose by centimetres.
+	const mrpt::poses::CPose3D kept = pose_with_outlier(Outlier::Kept);
+	const mrpt::poses::CPose3D own = pose_with_outlier(Outlier::OwnNoise);
+	const mrpt::poses::CPose3D dropped = pose_with_outlier(Outlier::Dropped);
+	EXPECT_NEAR(own.x(), dropped.x(), 1e-5);
+	EXPECT_NEAR(own.y(), dropped.y(), 1e-5);
+	EXPECT_NEAR(own.yaw(), dropped.yaw(), 1e-5);
+	EXPECT_GT(std::hypot(kept.x() - dropped.x(), kept.y() - dropped.y()), 5e-3);
+}
+
+TEST(Outliers, TheOptionsNoiseOverridesAReadingsOwn)
+{
+	io::RawlogStep s = step_at(0, 0.0, 0.04, false);
+	io::RangeBearingReading& r = s.readings[0];
+	r.std_range = 0.5;
+	r.std_yaw = 0.02;
+	r.std_pitch = 0.03;
+	SensorNoiseOptions n;
+	EXPECT_EQ(n.resolve(s, &r), Eigen::Vector3d(0.5, 0.02, 0.03));
+	EXPECT_EQ(n.resolve(s, &s.readings[1]), Eigen::Vector3d(0.01, s.sensor_std_yaw, s.sensor_std_pitch));
+	n.std_range = 0.2;
+	EXPECT_EQ(n.resolve(s, &r), Eigen::Vector3d(0.2, 0.02, 0.03));
+	EXPECT_EQ(n.resolve_range_yaw(s, &r), Eigen::Vector2d(0.2, 0.02));
+}
+
 /** A copy of `r` with a share `fraction` of readings moved by ±[1, 3] m in range and ±[0.2, 0.6] rad
  * in yaw (a fixed linear congruential sequence: the same outliers every run). Returns how many. */
 std::size_t inject_outliers(io::Rawlog& r, double fraction)

@@ -114,6 +114,12 @@ template <class Ekf>
 void load_base_options(Ekf& ekf, const std::vector<io::RawlogStep>& steps,
 					   const EkfSlamOptions& options, EkfSlamResult& res)
 {
+	std::size_t own = 0;
+	for (const auto& s : steps)
+		for (const auto& r : s.readings) own += r.has_own_noise();
+	if (own > 0)
+		add_note(res, std::to_string(own) + " readings carry their own covariance (validCovariances): MRPT's EKF "
+				 "takes one sensor noise for every reading (sensor_std_*, or the options'), not theirs");
 	if (!options.ini_file.empty())
 	{
 		// Read as text first: a missing, binary or non-regular file is named, not parsed as an empty INI.

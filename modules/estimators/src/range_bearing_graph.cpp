@@ -192,14 +192,16 @@ void RangeBearingGraph::add_step(const io::RawlogStep& step, StepSummary& sum)
 	if (association_ == DataAssociation::Auto) association_ = resolve_association(opt_.association, step);
 	const bool associating = association_ != DataAssociation::Ids;
 	if (gate_on_entry_ || associating) gate_.set_prediction_covariance(odo_info.inverse());
-	Eigen::Vector3d sigma;
-	if (model_ == PoseModel::Planar)
-		sigma << opt_.sensor.resolve_range_yaw(step), 0.0;
-	else
-		sigma = opt_.sensor.resolve(step);
 	std::vector<std::pair<std::int32_t, Observation>> readings;
 	for (const auto& rd : step.readings)
+	{
+		Eigen::Vector3d sigma;
+		if (model_ == PoseModel::Planar)
+			sigma << opt_.sensor.resolve_range_yaw(step, &rd), 0.0;
+		else
+			sigma = opt_.sensor.resolve(step, &rd);
 		readings.push_back({rd.landmark_id, {k, {rd.range, rd.yaw, rd.pitch}, sigma, -1, readings.size()}});
+	}
 	assigned_ids_.resize(k + 1);
 	std::vector<bool> matched(readings.size(), false);
 	if (associating)

@@ -21,6 +21,12 @@ IniKey<SensorNoiseOptions> degrees_key(const std::string& section, const char* k
 
 namespace
 {
+/** `reading` if it declares its own noise, else nullptr (the step's holds). */
+const io::RangeBearingReading* own_noise(const io::RangeBearingReading* reading)
+{
+	return reading && reading->has_own_noise() ? reading : nullptr;
+}
+
 void check_positive(const Eigen::VectorXd& s, const io::RawlogStep& step)
 {
 	for (Eigen::Index i = 0; i < s.size(); i++)
@@ -30,17 +36,21 @@ void check_positive(const Eigen::VectorXd& s, const io::RawlogStep& step)
 }
 }  // namespace
 
-Eigen::Vector3d SensorNoiseOptions::resolve(const io::RawlogStep& step) const
+Eigen::Vector3d SensorNoiseOptions::resolve(const io::RawlogStep& step, const io::RangeBearingReading* reading) const
 {
-	const Eigen::Vector2d ry = resolve_range_yaw(step);
-	const Eigen::Vector3d s(ry[0], ry[1], std_pitch > 0 ? std_pitch : step.sensor_std_pitch);
+	const Eigen::Vector2d ry = resolve_range_yaw(step, reading);
+	const io::RangeBearingReading* own = own_noise(reading);
+	const Eigen::Vector3d s(ry[0], ry[1], std_pitch > 0 ? std_pitch : own ? own->std_pitch : step.sensor_std_pitch);
 	check_positive(s, step);
 	return s;
 }
 
-Eigen::Vector2d SensorNoiseOptions::resolve_range_yaw(const io::RawlogStep& step) const
+Eigen::Vector2d SensorNoiseOptions::resolve_range_yaw(const io::RawlogStep& step,
+													  const io::RangeBearingReading* reading) const
 {
-	const Eigen::Vector2d s(std_range > 0 ? std_range : step.sensor_std_range, std_yaw > 0 ? std_yaw : step.sensor_std_yaw);
+	const io::RangeBearingReading* own = own_noise(reading);
+	const Eigen::Vector2d s(std_range > 0 ? std_range : own ? own->std_range : step.sensor_std_range,
+							std_yaw > 0 ? std_yaw : own ? own->std_yaw : step.sensor_std_yaw);
 	check_positive(s, step);
 	return s;
 }

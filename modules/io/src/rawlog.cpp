@@ -89,20 +89,40 @@ bool finite_pose(const mrpt::poses::CPose3D& p)
 	return true;
 }
 
-/** Why a reading is invalid, or nullptr. */
-const char* invalid_reading(const CObservationBearingRange::TMeasurement& m, bool require_ids)
+[[noreturn]] void fail_at(const std::string& at, const std::string& msg) { throw std::invalid_argument(at + ": " + msg); }
+
+/** Why a reading is invalid, or nullptr; `own_noise`: its covariance must hold finite variances, those
+ * of range and yaw > 0 (a 2D sensor's pitch variance may be 0). */
+const char* invalid_reading(const CObservationBearingRange::TMeasurement& m, bool require_ids, bool own_noise)
 {
 	if (!std::isfinite(m.range)) return "non-finite range";
 	if (m.range <= 0) return "range <= 0";
 	if (!std::isfinite(m.yaw)) return "non-finite yaw";
 	if (!std::isfinite(m.pitch)) return "non-finite pitch";
 	if (require_ids && m.landmarkID < 0) return "landmarkID < 0 (unknown ID)";
+	const auto& c = m.covariance;
+	if (own_noise && !(c(0, 0) > 0 && c(1, 1) > 0 && c(2, 2) >= 0 && std::isfinite(c(0, 0) + c(1, 1) + c(2, 2))))
+		return "its covariance (validCovariances) has a variance that is not finite, or not > 0 for range or yaw";
 	return nullptr;
+}
+
+/** The reading's own σ from its covariance (validCovariances), whose correlations must be 0: the
+ * estimators take a reading's noise as independent in range, yaw and pitch. */
+void take_own_noise(const CObservationBearingRange::TMeasurement& m, RangeBearingReading& r, const std::string& what)
+{
+	const auto& c = m.covariance;
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++)
+			if (i != j && c(i, j) != 0)
+				fail_at(what, "its covariance (validCovariances) correlates range, yaw and pitch; only per-reading "
+							  "variances are supported (set the off-diagonal terms to 0)");
+	r.std_range = std::sqrt(c(0, 0));
+	r.std_yaw = std::sqrt(c(1, 1));
+	r.std_pitch = std::sqrt(c(2, 2));
 }
 
 using Measurements = std::vector<CObservationBearingRange::TMeasurement>;
 
-[[noreturn]] void fail_at(const std::string& at, const std::string& msg) { throw std::invalid_argument(at + ": " + msg); }
 
 /** The first robot movement as the step's odometry, finite with non-negative variances; none: the
  * identity with a zero covariance. */
@@ -160,7 +180,7 @@ Measurements keep_valid_readings(const CObservationBearingRange& br, bool requir
 	for (std::size_t i = 0; i < br.sensedData.size(); i++)
 	{
 		const auto& m = br.sensedData[i];
-		if (const char* why = invalid_reading(m, require_ids))
+		if (const char* why = invalid_reading(m, require_ids, br.validCovariances))
 		{
 			s.skipped_readings++;
 			if (warn)
@@ -170,6 +190,7 @@ Measurements keep_valid_readings(const CObservationBearingRange& br, bool requir
 		}
 		kept.push_back(m);
 		s.readings.push_back({m.landmarkID, m.range, m.yaw, m.pitch});
+		if (br.validCovariances) take_own_noise(m, s.readings.back(), at + ": reading " + std::to_string(i));
 	}
 	return kept;
 }
@@ -274,6 +295,7 @@ void Reader::add_step(
 		if (r.landmark_id >= 0) ids_.insert(r.landmark_id);
 	out_.readings += s.readings.size();
 	out_.skipped_readings += s.skipped_readings;
+	for (const auto& r : s.readings) out_.readings_with_own_noise += r.has_own_noise();
 	out_.steps.push_back(std::move(s));
 }
 

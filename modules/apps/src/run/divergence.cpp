@@ -80,13 +80,13 @@ std::optional<ReadingMisfit> reading_misfit(const RunRow& row, const io::Rawlog&
 		const io::RawlogStep& step = rawlog.steps[k];
 		const auto p = pose_at.find(step.time());
 		if (step.readings.empty() || p == pose_at.end()) continue;
-		Eigen::Vector3d sigma;
-		if (planar)
-			sigma << options.sensor.resolve_range_yaw(step), 0.0;
-		else
-			sigma = options.sensor.resolve(step);
 		for (std::size_t i = 0; i < step.readings.size(); i++)
 		{
+			Eigen::Vector3d sigma;
+			if (planar)
+				sigma << options.sensor.resolve_range_yaw(step, &step.readings[i]), 0.0;
+			else
+				sigma = options.sensor.resolve(step, &step.readings[i]);
 			const std::int32_t id = k < row.assigned_ids.size() && i < row.assigned_ids[k].size()
 										? row.assigned_ids[k][i]
 										: step.readings[i].landmark_id;

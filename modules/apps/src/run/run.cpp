@@ -101,6 +101,9 @@ void print_inputs(const RunOptions& options, const io::Rawlog& rawlog, const std
 		log << rawlog.distinct_landmarks << " landmarks, ";
 	log << rawlog.readings << " readings";
 	if (rawlog.skipped_readings) log << " (" << rawlog.skipped_readings << " invalid readings skipped)";
+	if (rawlog.readings_with_own_noise)
+		log << ", " << rawlog.readings_with_own_noise << " with their own covariance (validCovariances: their noise "
+			<< "unless --sensor-std-* / [sensor] set one)";
 	log << "\n";
 	if (gt_path.empty())
 		log << "swba run: no ground truth (" << eval::default_ground_truth_path(options.rawlog)

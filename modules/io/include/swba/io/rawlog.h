@@ -33,6 +33,11 @@ struct RangeBearingReading
 	double range = 0.0;	 ///< metres
 	double yaw = 0.0;  ///< radians
 	double pitch = 0.0;	 ///< radians
+	/** The reading's own noise σ (m, rad, rad) when its observation declares per-reading covariances
+	 * (CObservationBearingRange::validCovariances: the square roots of the covariance's diagonal; the
+	 * observation's sensor_std_* do not hold for it); 0 = none declared (they do). */
+	double std_range = 0.0, std_yaw = 0.0, std_pitch = 0.0;
+	bool has_own_noise() const { return std_range > 0; }
 };
 
 /** One estimator step: the odometry from the previous pose and the observations at the new pose. */
@@ -150,6 +155,7 @@ struct Rawlog
 	std::size_t steps_without_observation = 0;
 	std::size_t readings = 0;  ///< valid readings kept
 	std::size_t skipped_readings = 0;  ///< invalid readings dropped (NaN / ≤ 0 range, bad angles, id < 0)
+	std::size_t readings_with_own_noise = 0;  ///< valid readings with their own covariance (validCovariances)
 	std::size_t distinct_landmarks = 0;	 ///< distinct landmark IDs (≥ 0) among the valid readings
 	bool truncated = false;	 ///< only with RawlogReaderOptions::allow_truncated
 	std::size_t warning_count = 0;
@@ -162,7 +168,8 @@ struct Rawlog
  * boundary, through the gzip trailer's size); it yields no step; no step has odometry; no step has
  * a valid range-bearing reading; an odometry mean or covariance is not finite, or a covariance has
  * a negative variance; a sensory frame holds several bearing-range observations with different
- * sensor poses. Single invalid readings are dropped and counted (see RawlogStep::skipped_readings).
+ * sensor poses; a per-reading covariance (validCovariances) correlates range, yaw and pitch (only
+ * their variances are taken). Single invalid readings are dropped and counted (see RawlogStep::skipped_readings).
  * Corrupt length fields: MRPT 2.5's deserialisation allocates whatever a length or count field asks
  * for (gigabytes from a few hundred bytes; reproducers in fuzz/findings/mrpt/) before any check here
  * can run; options.memory_budget bounds that (such a file is then reported as corrupt at the entry
