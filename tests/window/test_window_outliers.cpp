@@ -212,6 +212,18 @@ TEST(Outliers, TheOptionsNoiseOverridesAReadingsOwn)
 	n.std_range = 0.2;
 	EXPECT_EQ(n.resolve(s, &r), Eigen::Vector3d(0.2, 0.02, 0.03));
 	EXPECT_EQ(n.resolve_range_yaw(s, &r), Eigen::Vector2d(0.2, 0.02));
+	// A 2D sensor's own pitch variance of 0 is an error only where a pitch is needed, and says whose it is.
+	r.std_pitch = 0;
+	EXPECT_EQ(n.resolve_range_yaw(s, &r), Eigen::Vector2d(0.2, 0.02));
+	try
+	{
+		n.resolve(s, &r);
+		ADD_FAILURE() << "a zero pitch σ accepted";
+	}
+	catch (const std::invalid_argument& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("a reading's own covariance"), std::string::npos) << e.what();
+	}
 }
 
 /** A copy of `r` with a share `fraction` of readings moved by ±[1, 3] m in range and ±[0.2, 0.6] rad

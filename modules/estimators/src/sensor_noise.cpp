@@ -27,12 +27,13 @@ const io::RangeBearingReading* own_noise(const io::RangeBearingReading* reading)
 	return reading && reading->has_own_noise() ? reading : nullptr;
 }
 
-void check_positive(const Eigen::VectorXd& s, const io::RawlogStep& step)
+void check_positive(const Eigen::VectorXd& s, const io::RawlogStep& step, const io::RangeBearingReading* own)
 {
 	for (Eigen::Index i = 0; i < s.size(); i++)
 		if (!(s[i] > 0))
-			throw std::invalid_argument("step " + std::to_string(step.index) +
-										": sensor noise is not positive (set sensor_std_* in the options)");
+			throw std::invalid_argument("step " + std::to_string(step.index) + ": sensor noise is not positive (" +
+										(own ? "a reading's own covariance" : "the observation's sensor_std_*") +
+										"; set it in the options: [sensor] or --sensor-std-*)");
 }
 }  // namespace
 
@@ -41,7 +42,7 @@ Eigen::Vector3d SensorNoiseOptions::resolve(const io::RawlogStep& step, const io
 	const Eigen::Vector2d ry = resolve_range_yaw(step, reading);
 	const io::RangeBearingReading* own = own_noise(reading);
 	const Eigen::Vector3d s(ry[0], ry[1], std_pitch > 0 ? std_pitch : own ? own->std_pitch : step.sensor_std_pitch);
-	check_positive(s, step);
+	check_positive(s, step, own);
 	return s;
 }
 
@@ -51,7 +52,7 @@ Eigen::Vector2d SensorNoiseOptions::resolve_range_yaw(const io::RawlogStep& step
 	const io::RangeBearingReading* own = own_noise(reading);
 	const Eigen::Vector2d s(std_range > 0 ? std_range : own ? own->std_range : step.sensor_std_range,
 							std_yaw > 0 ? std_yaw : own ? own->std_yaw : step.sensor_std_yaw);
-	check_positive(s, step);
+	check_positive(s, step, own);
 	return s;
 }
 
