@@ -191,6 +191,13 @@ TEST(RunAppErrors, NanReadingIsCountedAndTheRunCompletes)
 	}
 	EXPECT_NE(out.str().find("no ground truth: APE not computed"), std::string::npos) << out.str();
 	EXPECT_TRUE(fs::exists(d / "out" / "summary.json"));
+	{
+		std::ifstream f(d / "out" / "summary.json");
+		const std::string json((std::istreambuf_iterator<char>(f)), {});
+		EXPECT_NE(json.find("\"readings\": 31,\n  \"skipped_readings\": 1,\n  \"readings_with_own_noise\": 0"),
+				  std::string::npos)
+			<< json.substr(0, 300);
+	}
 	EXPECT_FALSE(fs::exists(d / "out" / "gt.tum"));
 	// The estimates follow the true motion: 0.3 m per step along x.
 	const auto& batch = report.rows[report.rows.size() - 2];  // then batch_alt, the other start

@@ -192,7 +192,8 @@ TEST(RunSummaryJson, ShapeOfTheDocumentedExample)
 	const RunReport rep = sample_report();
 	const Json j = Json::parse(swba::apps::format_summary_json(rep));
 	ASSERT_TRUE(j.is_object());
-	EXPECT_EQ(keys_of(j), (std::vector<std::string>{"rawlog", "ground_truth", "steps", "landmarks", "estimators"}));
+	EXPECT_EQ(keys_of(j), (std::vector<std::string>{"rawlog", "ground_truth", "steps", "landmarks", "readings", "skipped_readings",
+											   "readings_with_own_noise", "estimators"}));
 	EXPECT_EQ(j["rawlog"], rep.rawlog);	 // quotes in the path survive the escaping
 	EXPECT_EQ(j["ground_truth"], rep.ground_truth);
 	EXPECT_EQ(j["steps"], 11);

@@ -267,6 +267,9 @@ std::string format_summary_json(const RunReport& report)
 	j["ground_truth"] = string_or_null(report.ground_truth);
 	j["steps"] = report.steps;
 	j["landmarks"] = report.distinct_landmarks;
+	j["readings"] = report.readings;
+	j["skipped_readings"] = report.skipped_readings;
+	j["readings_with_own_noise"] = report.readings_with_own_noise;
 	j["estimators"] = ordered_json::array();
 	for (const auto& r : report.rows) j["estimators"].push_back(row_object(r));
 	// 2-space indentation, as eval's JSON files. Bytes that are not UTF-8 (a rawlog path, a failure

@@ -27,6 +27,7 @@ RunReport empty_report(const io::Rawlog& rawlog)
 	report.distinct_landmarks = rawlog.distinct_landmarks;
 	report.readings = rawlog.readings;
 	report.skipped_readings = rawlog.skipped_readings;
+	report.readings_with_own_noise = rawlog.readings_with_own_noise;
 	if (report.steps == 0) throw std::runtime_error("rawlog '" + rawlog.path + "': no steps");
 	return report;
 }

@@ -128,6 +128,7 @@ struct RunReport
 	std::string rawlog, ground_truth;  ///< ground_truth "" = none found (no APE)
 	std::size_t steps = 0;             ///< steps run
 	std::size_t distinct_landmarks = 0, readings = 0, skipped_readings = 0;
+	std::size_t readings_with_own_noise = 0;  ///< readings with their own covariance (validCovariances)
 	std::vector<RunRow> rows;
 	std::vector<std::string> files;    ///< files written (full paths), in writing order
 	std::vector<std::string> notes;    ///< one line each (plot notes, reader warnings, …)
