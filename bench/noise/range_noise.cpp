@@ -53,23 +53,23 @@ std::string beside(const std::string& rawlog, const std::string& suffix)
 	return stem + suffix;
 }
 
-int profile(const std::string& path, std::string gt, std::string lm_path, double bin)
+/** Each reading's range and yaw errors against the true pose and landmark, by range bin. */
+struct BinnedErrors
 {
-	if (gt.empty()) gt = beside(path, "_ground_truth_robot_path.txt");
-	if (lm_path.empty()) lm_path = beside(path, "_ground_truth.txt");
-	swba::io::RawlogReaderOptions ro;
-	ro.require_landmark_ids = true;
-	const swba::io::Rawlog rawlog = swba::io::read_rawlog(path, ro);
-	const std::vector<mrpt::poses::CPose3D> poses = swba::eval::read_mrpt_ground_truth(gt).poses;
-	const auto landmarks = swba::estimators::read_landmark_ground_truth(lm_path);
-	std::map<long, std::vector<double>> range_err, yaw_err;
-	std::size_t unknown = 0, beyond = 0;
+	std::map<long, std::vector<double>> range, yaw;
+	std::size_t unknown = 0, beyond = 0;  ///< readings of a landmark not in the file / beyond the path
+};
+
+BinnedErrors binned_errors(const swba::io::Rawlog& rawlog, const std::vector<mrpt::poses::CPose3D>& poses,
+						   const std::map<std::int32_t, Eigen::Vector3d>& landmarks, double bin)
+{
+	BinnedErrors e;
 	for (std::size_t k = 0; k < rawlog.steps.size(); k++)
 	{
 		const auto& s = rawlog.steps[k];
 		if (k + 1 >= poses.size())
 		{
-			beyond += s.readings.size();
+			e.beyond += s.readings.size();
 			continue;
 		}
 		const mrpt::poses::CPose3D sensor = poses[k + 1] + s.sensor_pose;
@@ -78,28 +78,40 @@ int profile(const std::string& path, std::string gt, std::string lm_path, double
 			const auto l = landmarks.find(r.landmark_id);
 			if (l == landmarks.end())
 			{
-				unknown++;
+				e.unknown++;
 				continue;
 			}
 			const auto p = sensor.inverseComposePoint(mrpt::math::TPoint3D(l->second.x(), l->second.y(), l->second.z()));
-			const double range = p.norm();
-			const long b = static_cast<long>(std::floor(range / bin));
-			range_err[b].push_back(r.range - range);
-			yaw_err[b].push_back(std::remainder(r.yaw - std::atan2(p.y, p.x), 2 * M_PI));
+			const long b = static_cast<long>(std::floor(p.norm() / bin));
+			e.range[b].push_back(r.range - p.norm());
+			e.yaw[b].push_back(std::remainder(r.yaw - std::atan2(p.y, p.x), 2 * M_PI));
 		}
 	}
+	return e;
+}
+
+int profile(const std::string& path, std::string gt, std::string lm_path, double bin)
+{
+	if (gt.empty()) gt = beside(path, "_ground_truth_robot_path.txt");
+	if (lm_path.empty()) lm_path = beside(path, "_ground_truth.txt");
+	swba::io::RawlogReaderOptions ro;
+	ro.require_landmark_ids = true;
+	const swba::io::Rawlog rawlog = swba::io::read_rawlog(path, ro);
+	const BinnedErrors e = binned_errors(rawlog, swba::eval::read_mrpt_ground_truth(gt).poses,
+										 swba::estimators::read_landmark_ground_truth(lm_path), bin);
 	std::printf("range_noise: %s: %zu readings against %s and %s", path.c_str(), rawlog.readings, gt.c_str(),
 				lm_path.c_str());
-	if (unknown || beyond) std::printf(" (%zu of a landmark not in the file, %zu beyond the path: not used)", unknown, beyond);
+	if (e.unknown || e.beyond)
+		std::printf(" (%zu of a landmark not in the file, %zu beyond the path: not used)", e.unknown, e.beyond);
 	std::printf("\n| range (m) | readings | range error median (m) | range σ (m) | yaw error median (rad) | yaw σ (rad) |\n"
 				"|---|---|---|---|---|---|\n");
-	Eigen::MatrixXd A(static_cast<Eigen::Index>(range_err.size()), 2);
+	Eigen::MatrixXd A(static_cast<Eigen::Index>(e.range.size()), 2);
 	Eigen::VectorXd y(A.rows());
 	Eigen::Index i = 0;
-	for (const auto& [b, errs] : range_err)
+	for (const auto& [b, errs] : e.range)
 	{
 		const auto [rm, rs] = median_and_sigma(errs);
-		const auto [ym, ys] = median_and_sigma(yaw_err[b]);
+		const auto [ym, ys] = median_and_sigma(e.yaw.at(b));
 		std::printf("| %.1f–%.1f | %zu | %+.3f | %.3f | %+.4f | %.4f |\n", b * bin, (b + 1) * bin, errs.size(), rm, rs, ym, ys);
 		const double w = std::sqrt(static_cast<double>(errs.size()));
 		A.row(i) << w, w * (b + 0.5) * bin;
