@@ -14,6 +14,8 @@
 #include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
 
+#include "../common/rawlog_tool.h"
+
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/obs/CRawlog.h>
@@ -132,27 +134,18 @@ int declare(const std::string& in, const std::string& out, double a, double b)
 	mrpt::obs::CRawlog rawlog;
 	if (!rawlog.loadFromRawLogFile(in)) throw std::runtime_error("rawlog '" + in + "': cannot be read");
 	std::size_t readings = 0;
-	const auto visit = [&](const mrpt::obs::CObservation::Ptr& o) {
-		auto br = std::dynamic_pointer_cast<mrpt::obs::CObservationBearingRange>(o);
-		if (!br) return;
-		br->validCovariances = true;
-		for (auto& m : br->sensedData)
+	swba::bench::for_each_bearing_range(rawlog, [&](mrpt::obs::CObservationBearingRange& br) {
+		br.validCovariances = true;
+		for (auto& m : br.sensedData)
 		{
 			const double s = a + b * m.range;
 			m.covariance.setZero();
 			m.covariance(0, 0) = s * s;
-			m.covariance(1, 1) = static_cast<double>(br->sensor_std_yaw) * br->sensor_std_yaw;
-			m.covariance(2, 2) = static_cast<double>(br->sensor_std_pitch) * br->sensor_std_pitch;
+			m.covariance(1, 1) = static_cast<double>(br.sensor_std_yaw) * br.sensor_std_yaw;
+			m.covariance(2, 2) = static_cast<double>(br.sensor_std_pitch) * br.sensor_std_pitch;
 			readings++;
 		}
-	};
-	for (std::size_t i = 0; i < rawlog.size(); i++)
-	{
-		if (rawlog.getType(i) == mrpt::obs::CRawlog::etSensoryFrame)
-			for (const auto& o : *rawlog.getAsObservations(i)) visit(o);
-		else if (rawlog.getType(i) == mrpt::obs::CRawlog::etObservation)
-			visit(rawlog.getAsObservation(i));
-	}
+	});
 	if (!rawlog.saveToRawLogFile(out)) throw std::runtime_error("rawlog '" + out + "': cannot be written");
 	std::printf("range_noise: %zu readings declared with range σ = %g + %g · r -> %s\n", readings, a, b, out.c_str());
 	return 0;
@@ -187,12 +180,4 @@ int run(int argc, char** argv)
 }
 }  // namespace
 
-int main(int argc, char** argv) try
-{
-	return run(argc, argv);
-}
-catch (const std::exception& e)
-{
-	std::cerr << "range_noise: " << e.what() << "\n";
-	return 1;
-}
+int main(int argc, char** argv) { return swba::bench::tool_main("range_noise", argc, argv, run); }

@@ -5,6 +5,8 @@
 // Deterministic for a seed: every reading draws the same five numbers from one 64-bit Mersenne twister
 // whatever the fraction, so the outliers of a smaller fraction are a subset of those of a larger one
 // with the same seed (1 % ⊂ 5 %), and the same seed gives the same file.
+#include "../common/rawlog_tool.h"
+
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/obs/CRawlog.h>
@@ -78,22 +80,13 @@ int run(int argc, char** argv)
 		throw std::runtime_error("rawlog '" + in.getValue() + "': cannot be read");
 	std::mt19937_64 rng(seed.getValue());
 	std::size_t readings = 0, moved = 0;
-	const auto visit = [&](const mrpt::obs::CObservation::Ptr& o) {
-		auto br = std::dynamic_pointer_cast<mrpt::obs::CObservationBearingRange>(o);
-		if (!br) return;
-		for (auto& m : br->sensedData)
+	swba::bench::for_each_bearing_range(rawlog, [&](mrpt::obs::CObservationBearingRange& br) {
+		for (auto& m : br.sensedData)
 		{
 			readings++;
 			if (corrupt(m, g, rng)) moved++;
 		}
-	};
-	for (std::size_t i = 0; i < rawlog.size(); i++)
-	{
-		if (rawlog.getType(i) == mrpt::obs::CRawlog::etSensoryFrame)
-			for (const auto& o : *rawlog.getAsObservations(i)) visit(o);
-		else if (rawlog.getType(i) == mrpt::obs::CRawlog::etObservation)
-			visit(rawlog.getAsObservation(i));
-	}
+	});
 	if (!rawlog.saveToRawLogFile(out.getValue()))
 		throw std::runtime_error("rawlog '" + out.getValue() + "': cannot be written");
 	std::cout << "make_outlier_rawlog: " << moved << " of " << readings << " readings made outliers (fraction "
@@ -102,12 +95,4 @@ int run(int argc, char** argv)
 }
 }  // namespace
 
-int main(int argc, char** argv) try
-{
-	return run(argc, argv);
-}
-catch (const std::exception& e)
-{
-	std::cerr << "make_outlier_rawlog: " << e.what() << "\n";
-	return 1;
-}
+int main(int argc, char** argv) { return swba::bench::tool_main("make_outlier_rawlog", argc, argv, run); }
