@@ -19,7 +19,7 @@ namespace swba::bench
 struct Settings
 {
 	int threads = 2;
-	int max_iterations = 100;
+	int max_iterations = problems::pose_graph_solver_options().max_iterations;  // as `swba pgo`
 	int repeat = 1;
 	int mrpt_max_iterations = 100;
 	double initial_trust_region = problems::kPoseGraphInitialTrustRegion;  // swba's rows and the ceres:tr row
