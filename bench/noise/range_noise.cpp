@@ -11,6 +11,7 @@
 //     (CObservationBearingRange::validCovariances): σ_range = A + B·r, yaw and pitch σ the
 //     observation's own sensor_std_yaw / _pitch. Everything else is copied as read.
 #include <swba/estimators/association_quality.h>
+#include <swba/eval/ground_truth.h>
 #include <swba/eval/trajectory.h>
 #include <swba/io/rawlog.h>
 
@@ -44,15 +45,6 @@ std::pair<double, double> median_and_sigma(std::vector<double> v)
 	const double m = median(v);
 	for (double& x : v) x = std::abs(x - m);
 	return {m, 1.4826 * median(v)};
-}
-
-/** "<stem><suffix>" next to the rawlog. */
-std::string beside(const std::string& rawlog, const std::string& suffix)
-{
-	const std::string stem = rawlog.size() > 7 && rawlog.substr(rawlog.size() - 7) == ".rawlog"
-		? rawlog.substr(0, rawlog.size() - 7)
-		: rawlog;
-	return stem + suffix;
 }
 
 /** Each reading's range and yaw errors against the true pose and landmark, by range bin. */
@@ -94,8 +86,8 @@ BinnedErrors binned_errors(const swba::io::Rawlog& rawlog, const std::vector<mrp
 
 int profile(const std::string& path, std::string gt, std::string lm_path, double bin)
 {
-	if (gt.empty()) gt = beside(path, "_ground_truth_robot_path.txt");
-	if (lm_path.empty()) lm_path = beside(path, "_ground_truth.txt");
+	if (gt.empty()) gt = swba::eval::default_ground_truth_path(path);
+	if (lm_path.empty()) lm_path = swba::eval::default_landmarks_path(path);
 	swba::io::RawlogReaderOptions ro;
 	ro.require_landmark_ids = true;
 	const swba::io::Rawlog rawlog = swba::io::read_rawlog(path, ro);

@@ -30,9 +30,9 @@ bool is_tum_file(const std::string& path)
 	}
 	return false;
 }
-}  // namespace
 
-std::string default_ground_truth_path(const std::string& rawlog_path)
+/** The rawlog path without its .rawlog / .rawlog.gz ending. */
+std::string rawlog_stem(const std::string& rawlog_path)
 {
 	std::string base = rawlog_path;
 	for (const char* ext : {".rawlog.gz", ".rawlog"})
@@ -44,8 +44,16 @@ std::string default_ground_truth_path(const std::string& rawlog_path)
 			break;
 		}
 	}
-	return base + "_ground_truth_robot_path.txt";
+	return base;
 }
+}  // namespace
+
+std::string default_ground_truth_path(const std::string& rawlog_path)
+{
+	return rawlog_stem(rawlog_path) + "_ground_truth_robot_path.txt";
+}
+
+std::string default_landmarks_path(const std::string& rawlog_path) { return rawlog_stem(rawlog_path) + "_ground_truth.txt"; }
 
 std::vector<mrpt::poses::CPose3D> read_ground_truth_for(const std::string& path, std::size_t steps)
 {

@@ -171,11 +171,8 @@ estimators::ReadingIds association_truth(const io::Rawlog& rawlog, const RunOpti
 		source = "the rawlog's landmark IDs";
 		return estimators::reading_ids(rawlog);
 	}
-	const std::string robot = eval::default_ground_truth_path(rawlog_path);
-	const std::string suffix = "_robot_path.txt";
-	if (gt.empty() || robot.size() < suffix.size()) return {};
-	const std::string path = robot.substr(0, robot.size() - suffix.size()) + ".txt";
-	if (!mrpt::system::fileExists(path)) return {};
+	const std::string path = eval::default_landmarks_path(rawlog_path);
+	if (gt.empty() || !mrpt::system::fileExists(path)) return {};
 	source = path;
 	// Landmarks are points a few metres apart in simulated maps; a reading's point lies within a few
 	// sensor sigmas of its landmark. 0.5 m leaves a reading of no landmark unmatched.

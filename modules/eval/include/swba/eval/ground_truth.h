@@ -18,6 +18,9 @@ namespace swba::eval
 {
 /** `<dir>/<name>_ground_truth_robot_path.txt` for `<dir>/<name>.rawlog` (mrpt-common's naming). */
 std::string default_ground_truth_path(const std::string& rawlog_path);
+/** `<dir>/<name>_ground_truth.txt` for `<dir>/<name>.rawlog`: the simulator's landmark file (mrpt-common's
+ * and simul-landmarks' naming; estimators::read_landmark_ground_truth reads it). */
+std::string default_landmarks_path(const std::string& rawlog_path);
 
 /** Reads the ground truth and checks it has at least steps + 1 rows (row k + 1 pairs with the estimate
  * after step k): MRPT's robot path (x y z yaw pitch roll), or a TUM trajectory (t x y z qx qy qz qw;
