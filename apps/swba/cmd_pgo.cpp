@@ -50,7 +50,8 @@ struct PgoCommandLine
 										"auto",
 										"auto|dense-normal|sparse-normal",
 										cmd};
-	TCLAP::ValueArg<int> max_iterations = swba::app::max_iterations_arg(cmd, swba::problems::pose_graph_solver_options().max_iterations);
+	TCLAP::ValueArg<int> max_iterations =
+		swba::app::max_iterations_arg(cmd, swba::problems::pose_graph_solver_options().max_iterations);
 	TCLAP::ValueArg<double> function_tolerance{
 		"", "function-tolerance", "stop when |dcost|/cost falls below (Default: 1e-6)", false, 1e-6, "TOL", cmd};
 	TCLAP::ValueArg<double> initial_radius{

@@ -53,7 +53,10 @@ std::string default_ground_truth_path(const std::string& rawlog_path)
 	return rawlog_stem(rawlog_path) + "_ground_truth_robot_path.txt";
 }
 
-std::string default_landmarks_path(const std::string& rawlog_path) { return rawlog_stem(rawlog_path) + "_ground_truth.txt"; }
+std::string default_landmarks_path(const std::string& rawlog_path)
+{
+	return rawlog_stem(rawlog_path) + "_ground_truth.txt";
+}
 
 std::vector<mrpt::poses::CPose3D> read_ground_truth_for(const std::string& path, std::size_t steps)
 {

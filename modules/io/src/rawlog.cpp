@@ -123,7 +123,6 @@ void take_own_noise(const CObservationBearingRange::TMeasurement& m, RangeBearin
 
 using Measurements = std::vector<CObservationBearingRange::TMeasurement>;
 
-
 /** The first robot movement as the step's odometry, finite with non-negative variances; none: the
  * identity with a zero covariance. */
 void read_odometry(const CActionCollection& acts, RawlogStep& s, const std::string& at)
