@@ -252,6 +252,10 @@ add_test(NAME runapp.e2e.interrupted_by_sigTERM_twice
 set_tests_properties(runapp.e2e.interrupted_by_sigTERM_twice PROPERTIES PASS_REGULAR_EXPRESSION "OK: exit 143"
   TIMEOUT 120)
 # -q is --quiet in every solver command that documents it (doc/cli.md).
+# swba compare: a missing path, a directory without summaries, an unknown metric.
+swba_cli_case(compare_missing_path 1 REGEX "swba compare: error: /nonexistent/base: does not exist" ARGS compare /nonexistent/base /nonexistent/other)
+swba_cli_case(compare_no_summaries 1 REGEX "swba compare: error: [^\n]*posegraph: no summary.json below it" ARGS compare ${SWBA_DATA_DIR}/posegraph ${SWBA_DATA_DIR}/posegraph)
+swba_cli_case(compare_bad_metric 2 REGEX "unknown metric 'rmse' \\(expected ape_trans, ape_rot or rpe_trans\\)" ARGS compare a b --metric rmse)
 foreach(_c bal pgo directba)
   swba_cli_case(quiet_short_form_${_c} 0 REGEX "-q, +--quiet" ARGS ${_c} --help)
 endforeach()
@@ -264,8 +268,9 @@ set(_help_order_rpe "Where:.*<REF>.*<EST>.*--ref-format.*--pose-relation.*--alig
 set(_help_order_monoba "Where:.*--cameras.*--points.*--noise.*--depth-noise.*--pose-noise-m.*--pose-noise-rad.*--seed .*--gauge.*--fix .*--prior-weight.*--sweep-prior-weights.*--seeds.*--repetitions.*--max-iterations.*--threads.*--out.*--progress.*--version.*--help")
 set(_help_order_bal "Where:.*<PROBLEM>.*--linear.*--loss .*--loss-scale.*--max-iterations.*--function-tolerance.*--gradient-tolerance.*--parameter-tolerance.*--threads.*--ply-initial.*--ply-final.*--write-problem.*--quiet.*--version.*--help")
 set(_help_order_pgo "Where:.*<IN.g2o>.*--information.*--init .*--gauge.*--prior-sigma.*--robust .*--robust-scale.*--rotation-error.*--linear.*--max-iterations.*--function-tolerance.*--initial-trust-region.*--threads.*--output.*--quiet.*--version.*--help")
+set(_help_order_compare "Where:.*<BASE>.*<OTHER>.*--metric.*--per-rawlog.*--json.*--version.*--help")
 set(_help_order_directba "Where:.*<DIR>.*--synthetic.*--sigma.*--huber-delta.*--fixed-cameras.*--border.*--iterations.*--threads.*--ply-initial.*--ply-final.*--out .*--quiet.*--version.*--help")
-foreach(_c run ape rpe monoba bal pgo directba)
+foreach(_c run ape rpe monoba bal pgo directba compare)
   add_test(NAME apps.cli.help_order_${_c} COMMAND $<TARGET_FILE:swba> ${_c} --help)
   set_tests_properties(apps.cli.help_order_${_c} PROPERTIES PASS_REGULAR_EXPRESSION "${_help_order_${_c}}"
     FAIL_REGULAR_EXPRESSION "\\.[ \n]+\\(Default|\\([Dd]efault [^:]|\\(default|[^ \n]\\(Default")

@@ -65,6 +65,14 @@ add_test(NAME golden.merge_sweep
           -DWORK_DIR=${_golden_out}/merge_sweep -P ${_golden}/golden.cmake)
 set_tests_properties(golden.merge_sweep PROPERTIES LABELS golden TIMEOUT 300)
 
+# swba compare: two real logs run with the Cauchy and the Huber loss (tests/golden/compare_runs.sh, a
+# fixture), then the paired comparison of the two sets of runs.
+add_test(NAME golden.compare_runs_setup
+  COMMAND bash ${_golden}/compare_runs.sh $<TARGET_FILE:swba> ${_golden_out}/compare_runs ${_data})
+set_tests_properties(golden.compare_runs_setup PROPERTIES FIXTURES_SETUP compare_runs LABELS golden TIMEOUT 300)
+swba_golden(compare compare ../compare_runs/cauchy ../compare_runs/huber --per-rawlog)
+set_tests_properties(golden.compare PROPERTIES FIXTURES_REQUIRED compare_runs)
+
 # Real robots' logs (share/data/mrclam, UTIAS MRCLAM dataset 6): `swba run` with every default, its
 # printed figures pinned, then the bounds the window must keep there (realdata_bounds.cmake): every row
 # finite, the online W = 30 row at most 2.5x the batch. MRPT's EKF diverges on robots 3 and 5 (marked
