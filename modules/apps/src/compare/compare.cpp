@@ -1,6 +1,8 @@
 // swba compare: paired ratios of two sets of swba run results (see compare.h).
 #include <swba/apps/compare.h>
 
+#include "../report_helpers.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -15,6 +17,7 @@
 namespace swba::apps
 {
 namespace fs = std::filesystem;
+using detail::fixed;
 using nlohmann::ordered_json;
 
 namespace
@@ -101,13 +104,6 @@ void add_summary(ResultSet& set, const fs::path& file, CompareMetric metric)
 	set.summaries++;
 }
 
-std::string fixed(double v, int digits)
-{
-	std::ostringstream s;
-	s << std::fixed << std::setprecision(digits) << v;
-	return s.str();
-}
-
 std::string signed_fixed(double v, int digits) { return (v >= 0 ? "+" : "") + fixed(v, digits); }
 
 std::vector<std::string> one_side_only(const ResultSet& a, const ResultSet& b)
@@ -119,7 +115,7 @@ std::vector<std::string> one_side_only(const ResultSet& a, const ResultSet& b)
 }
 
 /** The table; setw counts bytes, so the header's two-byte "±" has one more. */
-std::string format_table(const std::vector<PairedComparison>& rows)
+std::string format_paired_table(const std::vector<PairedComparison>& rows)
 {
 	std::ostringstream s;
 	s << std::left << std::setw(26) << "estimator" << std::right << std::setw(6) << "pairs" << std::setw(14)
@@ -137,7 +133,7 @@ std::string format_table(const std::vector<PairedComparison>& rows)
 	return s.str();
 }
 
-std::string format_pairs(const PairedComparison& c)
+std::string format_paired_rawlogs(const PairedComparison& c)
 {
 	std::ostringstream s;
 	s << c.label << ":\n";
@@ -278,9 +274,9 @@ int run_compare(const CompareOptions& o, std::ostream& out, std::ostream& log)
 	out << metric_title(o.metric) << ", other / base paired by rawlog; base " << o.base << " (" << base.summaries
 		<< " summaries, " << base.figures.size() << " rawlogs), other " << o.other << " (" << other.summaries
 		<< " summaries, " << other.figures.size() << " rawlogs)\n";
-	out << format_table(shown);
+	out << format_paired_table(shown);
 	if (o.per_rawlog)
-		for (const auto& c : shown) out << "\n" << format_pairs(c);
+		for (const auto& c : shown) out << "\n" << format_paired_rawlogs(c);
 	write_notes(base, other, rows, log);
 	if (!o.json_path.empty())
 	{
