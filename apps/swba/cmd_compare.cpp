@@ -28,19 +28,17 @@ int run_compare(int argc, char** argv)
 	TCLAP::SwitchArg per_rawlog("", "per-rawlog", "also print every pair", cmd);
 	TCLAP::ValueArg<std::string> json("", "json", "also write the comparison as JSON to FILE", false, "", "FILE", cmd);
 	if (auto rc = parse_command_line(cmd, argc, argv)) return *rc;
-	apps::CompareOptions o;
-	try
-	{
-		o.metric = parse_enum<apps::CompareMetric>(metric.getValue(), "metric");
-	}
-	catch (const std::invalid_argument& e)
-	{
-		throw UsageError(e.what());
-	}
-	o.base = base.getValue();
-	o.other = other.getValue();
-	o.per_rawlog = per_rawlog.getValue();
-	o.json_path = json.getValue();
+	const auto parsed_metric = [&metric] {
+		try
+		{
+			return parse_enum<apps::CompareMetric>(metric.getValue(), "metric");
+		}
+		catch (const std::invalid_argument& e)
+		{
+			throw UsageError(e.what());
+		}
+	};
+	const apps::CompareOptions o{base.getValue(), other.getValue(), parsed_metric(), per_rawlog.getValue(), json.getValue()};
 	return apps::run_compare(o, std::cout, std::cerr);
 }
 SWBA_REGISTER_COMMAND("compare", "two sets of swba run results paired by rawlog: ratios and their scatter", run_compare);

@@ -145,25 +145,15 @@ std::string format_paired_rawlogs(const PairedComparison& c)
 
 ordered_json comparison_json(const PairedComparison& c)
 {
-	ordered_json j;
-	j["label"] = c.label;
-	j["pairs"] = c.rawlogs.size();
-	j["base_geomean"] = c.base_geomean;
-	j["other_geomean"] = c.other_geomean;
-	j["ratio"] = std::exp(c.mean_log_ratio);
-	j["mean_log_ratio"] = c.mean_log_ratio;
-	j["log_ratio_std_error"] = c.log_ratio_std_error ? ordered_json(*c.log_ratio_std_error) : ordered_json(nullptr);
-	j["better"] = c.better;
-	j["worse"] = c.worse;
-	j["equal"] = c.equal;
-	j["no_figure_base_only"] = c.not_finite_base;
-	j["no_figure_other_only"] = c.not_finite_other;
-	j["no_figure_both"] = c.not_finite_both;
 	ordered_json pairs = ordered_json::array();
 	for (std::size_t i = 0; i < c.rawlogs.size(); i++)
 		pairs.push_back({{"rawlog", c.rawlogs[i]}, {"base", c.base[i]}, {"other", c.other[i]}});
-	j["rawlogs"] = pairs;
-	return j;
+	const ordered_json se = c.log_ratio_std_error ? ordered_json(*c.log_ratio_std_error) : ordered_json(nullptr);
+	return {{"label", c.label}, {"pairs", c.rawlogs.size()}, {"base_geomean", c.base_geomean},
+			{"other_geomean", c.other_geomean}, {"ratio", std::exp(c.mean_log_ratio)},
+			{"mean_log_ratio", c.mean_log_ratio}, {"log_ratio_std_error", se}, {"better", c.better},
+			{"worse", c.worse}, {"equal", c.equal}, {"no_figure_base_only", c.not_finite_base},
+			{"no_figure_other_only", c.not_finite_other}, {"no_figure_both", c.not_finite_both}, {"rawlogs", pairs}};
 }
 
 /** What the table leaves out, one line each: rawlogs and rows on one side only, missing figures. */
@@ -280,15 +270,11 @@ int run_compare(const CompareOptions& o, std::ostream& out, std::ostream& log)
 	write_notes(base, other, rows, log);
 	if (!o.json_path.empty())
 	{
-		ordered_json j;
-		j["metric"] = std::string(enum_name(o.metric));
-		j["base"] = o.base;
-		j["other"] = o.other;
 		ordered_json est = ordered_json::array();
 		for (const auto& c : rows) est.push_back(comparison_json(c));
-		j["estimators"] = est;
-		j["base_only_rawlogs"] = one_side_only(base, other);
-		j["other_only_rawlogs"] = one_side_only(other, base);
+		const ordered_json j = {{"metric", enum_name(o.metric)}, {"base", o.base}, {"other", o.other},
+								{"estimators", est}, {"base_only_rawlogs", one_side_only(base, other)},
+								{"other_only_rawlogs", one_side_only(other, base)}};
 		std::ofstream f(o.json_path);
 		if (!(f << j.dump(2) << "\n")) throw std::runtime_error(o.json_path + ": cannot be written");
 		log << "swba compare: wrote " << o.json_path << "\n";
