@@ -113,11 +113,12 @@ TEST(Compare, FailedRowsAndOneSidedRawlogsAreCountedNotPaired)
 TEST(Compare, ASweepsJobsAndItsMergeAreReadTogether)
 {
 	const fs::path d = temp_dir();
+	write_summary(d / "sweep/jobs/log1/w10", "log1", {{"window W=10", 0.3}});
 	write_summary(d / "sweep/jobs/log1/w5", "log1", {{"window W=5", 0.4}});
 	write_summary(d / "sweep/merged/log1", "log1", {{"window W=5", 0.4}, {"window W=10", 0.3}});
 	const ResultSet s = read_results((d / "sweep").string(), CompareMetric::ApeTrans);
-	EXPECT_EQ(s.summaries, 2u);
-	// Files in path order (jobs/ before merged/), labels in the order first read; one figure per row.
+	EXPECT_EQ(s.summaries, 3u);
+	// Rows in the order of the summary with most rows (the merge's), one figure per row.
 	EXPECT_EQ(s.labels, (std::vector<std::string>{"window W=5", "window W=10"}));
 	ASSERT_EQ(s.figures.size(), 1u);
 	EXPECT_EQ(s.figures.at("log1").at("window W=5").value, 0.4);
@@ -158,4 +159,21 @@ TEST(Compare, InertialSummariesAreRead)
 	ASSERT_EQ(c.rawlogs.size(), 1u);
 	EXPECT_NEAR(c.mean_log_ratio, std::log(0.5), 1e-12);
 	EXPECT_EQ(c.better, 1u);
+}
+
+TEST(Compare, BatchRowsPairWhateverStartEachRawlogTook)
+{
+	const fs::path d = temp_dir();
+	for (const auto& [side, start, v] : {std::tuple{"a", "DR", 0.2}, {"b", "W=30", 0.1}})
+	{
+		fs::create_directories(d / side);
+		std::ofstream(d / side / "summary.json")
+			<< "{\"rawlog\": \"log1\", \"estimators\": [{\"label\": \"batch (" << start
+			<< " start)\", \"start\": \"x\", \"ape_trans\": {\"rmse\": " << v << "}, \"failed\": false}]}\n";
+	}
+	const ResultSet a = read_results((d / "a").string(), CompareMetric::ApeTrans);
+	EXPECT_EQ(a.labels, std::vector<std::string>{"batch"});
+	const PairedComparison c = compare_label(a, read_results((d / "b").string(), CompareMetric::ApeTrans), "batch");
+	ASSERT_EQ(c.rawlogs.size(), 1u);
+	EXPECT_NEAR(c.mean_log_ratio, std::log(0.5), 1e-12);
 }

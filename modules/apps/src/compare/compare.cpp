@@ -65,7 +65,21 @@ ResultFigure figure_of(const ordered_json& row, CompareMetric metric, const std:
 
 bool same_figure(const ResultFigure& a, const ResultFigure& b) { return a.value == b.value && a.status == b.status; }
 
-void add_summary(ResultSet& set, const fs::path& file, CompareMetric metric)
+/** The key of a row: its label, without the start a batch row names ("batch (DR start)" → "batch"), so
+ * that the batch rows pair whatever start each rawlog's batch took. */
+std::string row_key(const ordered_json& row)
+{
+	std::string label = row.at("label").get<std::string>();
+	const std::string suffix = " start)";
+	const std::size_t open = label.rfind(" (");
+	if (row.contains("start") && row.at("start").is_string() && open != std::string::npos && label.size() > suffix.size() &&
+		label.compare(label.size() - suffix.size(), suffix.size(), suffix) == 0)
+		label.erase(open);
+	return label;
+}
+
+/** Adds one summary's rows to `set`; returns their keys in the summary's order. */
+std::vector<std::string> add_summary(ResultSet& set, const fs::path& file, CompareMetric metric)
 {
 	const std::string src = file.string();
 	std::ifstream in(file);
@@ -84,24 +98,24 @@ void add_summary(ResultSet& set, const fs::path& file, CompareMetric metric)
 		!j.at(rows_key).is_array())
 		throw std::runtime_error(src + ": not a swba run summary (needs \"rawlog\" and \"estimators\" or \"rows\")");
 	auto& rows = set.figures[j.at("rawlog").get<std::string>()];
+	std::vector<std::string> keys;
 	for (const auto& row : j.at(rows_key))
 	{
 		if (!row.contains("label") || !row.at("label").is_string())
 			throw std::runtime_error(src + ": a row without a \"label\"");
-		const std::string label = row.at("label").get<std::string>();
+		const std::string label = row_key(row);
+		keys.push_back(label);
 		const ResultFigure f = figure_of(row, metric, src);
 		const auto it = rows.find(label);
 		if (it == rows.end())
-		{
 			rows.emplace(label, f);
-			if (std::find(set.labels.begin(), set.labels.end(), label) == set.labels.end()) set.labels.push_back(label);
-		}
 		else if (!same_figure(it->second, f))
 			throw std::runtime_error("two summaries of rawlog " + j.at("rawlog").get<std::string>() + " give '" + label +
 									 "' different figures: " + it->second.source + " and " + src +
 									 " (compare one configuration per side)");
 	}
 	set.summaries++;
+	return keys;
 }
 
 std::string signed_fixed(double v, int digits) { return (v >= 0 ? "+" : "") + fixed(v, digits); }
@@ -196,7 +210,13 @@ ResultSet read_results(const std::string& path, CompareMetric metric)
 	std::sort(files.begin(), files.end());
 	if (files.empty()) throw std::runtime_error(path + ": no summary.json below it (give swba run's --out directory or a sweep)");
 	ResultSet set;
-	for (const auto& f : files) add_summary(set, f, metric);
+	std::vector<std::vector<std::string>> keys;
+	for (const auto& f : files) keys.push_back(add_summary(set, f, metric));
+	// Row order: that of the summary with the most rows first (a sweep's merge: swba run's order).
+	std::stable_sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
+	for (const auto& list : keys)
+		for (const auto& k : list)
+			if (std::find(set.labels.begin(), set.labels.end(), k) == set.labels.end()) set.labels.push_back(k);
 	return set;
 }
 

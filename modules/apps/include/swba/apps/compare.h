@@ -40,11 +40,12 @@ struct ResultFigure
 	std::string source;           ///< the summary.json it was read from
 };
 
-/** Every row of every summary.json found below some paths: figures[rawlog][label]. */
+/** Every row of every summary.json found below some paths: figures[rawlog][row], a row named by its label
+ * (a batch row's without its start: "batch (DR start)" is "batch"). */
 struct ResultSet
 {
 	std::map<std::string, std::map<std::string, ResultFigure>> figures;
-	std::vector<std::string> labels;  ///< in the order first read (swba run's row order)
+	std::vector<std::string> labels;  ///< rows in the order of the summary with the most rows, then the others
 	std::size_t summaries = 0;        ///< summary.json files read
 };
 
