@@ -93,9 +93,9 @@ TEST(Compare, FailedRowsAndOneSidedRawlogsAreCountedNotPaired)
 	const PairedComparison c = compare_label(read_results((d / "a").string(), CompareMetric::ApeTrans),
 											 read_results((d / "b").string(), CompareMetric::ApeTrans), "w");
 	ASSERT_EQ(c.rawlogs, std::vector<std::string>{"log3"});
-	EXPECT_EQ(c.not_finite_other, 1u);
-	EXPECT_EQ(c.not_finite_both, 1u);
-	EXPECT_EQ(c.not_finite_base, 0u);
+	EXPECT_EQ(c.no_figure_other, 1u);
+	EXPECT_EQ(c.no_figure_both, 1u);
+	EXPECT_EQ(c.no_figure_base, 0u);
 	EXPECT_FALSE(c.log_ratio_std_error);  // one pair: no standard error
 
 	CompareOptions o;

@@ -37,13 +37,16 @@ std::string metric_title(CompareMetric m)
  * name the rotation APE differently). */
 const ordered_json* metric_object(const ordered_json& row, CompareMetric metric)
 {
-	std::vector<const char*> keys;
-	if (metric == CompareMetric::ApeTrans) keys = {"ape_trans"};
-	if (metric == CompareMetric::ApeRot) keys = {"ape_rot", "ape_rot_deg"};
-	if (metric == CompareMetric::RpeTrans) keys = {"rpe_trans"};
-	for (const char* k : keys)
-		if (row.contains(k) && row.at(k).is_object()) return &row.at(k);
-	return nullptr;
+	const auto object = [&row](const char* key) { return row.contains(key) && row.at(key).is_object() ? &row.at(key) : nullptr; };
+	switch (metric)
+	{
+		case CompareMetric::ApeRot:
+			if (const ordered_json* o = object("ape_rot")) return o;
+			return object("ape_rot_deg");
+		case CompareMetric::RpeTrans: return object("rpe_trans");
+		case CompareMetric::ApeTrans: break;
+	}
+	return object("ape_trans");
 }
 
 bool flag(const ordered_json& row, const char* key) { return row.contains(key) && row.at(key).is_boolean() && row.at(key).get<bool>(); }
@@ -166,8 +169,8 @@ ordered_json comparison_json(const PairedComparison& c)
 	return {{"label", c.label}, {"pairs", c.rawlogs.size()}, {"base_geomean", c.base_geomean},
 			{"other_geomean", c.other_geomean}, {"ratio", std::exp(c.mean_log_ratio)},
 			{"mean_log_ratio", c.mean_log_ratio}, {"log_ratio_std_error", se}, {"better", c.better},
-			{"worse", c.worse}, {"equal", c.equal}, {"no_figure_base_only", c.not_finite_base},
-			{"no_figure_other_only", c.not_finite_other}, {"no_figure_both", c.not_finite_both}, {"rawlogs", pairs}};
+			{"worse", c.worse}, {"equal", c.equal}, {"no_figure_base_only", c.no_figure_base},
+			{"no_figure_other_only", c.no_figure_other}, {"no_figure_both", c.no_figure_both}, {"rawlogs", pairs}};
 }
 
 /** What the table leaves out, one line each: rawlogs and rows on one side only, missing figures. */
@@ -187,9 +190,9 @@ void write_notes(const ResultSet& base, const ResultSet& other, const std::vecto
 			if (std::find(b->labels.begin(), b->labels.end(), l) == b->labels.end())
 				log << "note: '" << l << "' only in " << side << ", not compared\n";
 	for (const auto& c : rows)
-		if (c.not_finite_base + c.not_finite_other + c.not_finite_both > 0)
+		if (c.no_figure_base + c.no_figure_other + c.no_figure_both > 0)
 			log << "note: " << c.label << ": rawlogs without a figure (failed, diverged, interrupted or none): "
-				<< c.not_finite_base << " in base only, " << c.not_finite_other << " in other only, " << c.not_finite_both
+				<< c.no_figure_base << " in base only, " << c.no_figure_other << " in other only, " << c.no_figure_both
 				<< " in both; not in the ratios\n";
 }
 }  // namespace
@@ -238,7 +241,7 @@ PairedComparison compare_label(const ResultSet& base, const ResultSet& other, co
 		const bool has_b = b && *b > 0, has_o = x && *x > 0;
 		if (!has_b || !has_o)
 		{
-			(has_b ? c.not_finite_other : has_o ? c.not_finite_base : c.not_finite_both)++;
+			(has_b ? c.no_figure_other : has_o ? c.no_figure_base : c.no_figure_both)++;
 			continue;
 		}
 		c.rawlogs.push_back(rawlog);
@@ -271,7 +274,7 @@ int run_compare(const CompareOptions& o, std::ostream& out, std::ostream& log)
 		if (std::find(other.labels.begin(), other.labels.end(), l) != other.labels.end())
 		{
 			PairedComparison c = compare_label(base, other, l);
-			if (!c.rawlogs.empty() || c.not_finite_base + c.not_finite_other + c.not_finite_both > 0) rows.push_back(c);
+			if (!c.rawlogs.empty() || c.no_figure_base + c.no_figure_other + c.no_figure_both > 0) rows.push_back(c);
 		}
 	std::vector<PairedComparison> shown;
 	for (const auto& c : rows)

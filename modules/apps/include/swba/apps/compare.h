@@ -65,8 +65,8 @@ struct PairedComparison
 	double mean_log_ratio = 0;                  ///< mean of ln(other / base)
 	std::optional<double> log_ratio_std_error;  ///< its standard error (sample sd / √n), n ≥ 2
 	std::size_t better = 0, worse = 0, equal = 0;  ///< other < base, other > base, identical
-	std::size_t not_finite_base = 0, not_finite_other = 0;  ///< rawlogs in both where only that side has no figure
-	std::size_t not_finite_both = 0;
+	std::size_t no_figure_base = 0, no_figure_other = 0;  ///< rawlogs in both where only that side has no figure
+	std::size_t no_figure_both = 0;
 };
 
 /** The paired comparison of `label` (empty rawlogs when none is paired). */
