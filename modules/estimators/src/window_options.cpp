@@ -84,9 +84,9 @@ double parse_probability(const std::string& v)
 	if (!(p > 0 && p < 1)) throw std::invalid_argument("'" + v + "' must be in (0, 1)");
 	return p;
 }
-}  // namespace
 
-IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& section)
+/** The keys of the state and its solve: parameterisation, model, gauge, marginalisation, re-linearised poses. */
+IniKeys<SlidingWindowOptions> state_keys(const std::string& section)
 {
 	using S = std::string;
 	using O = SlidingWindowOptions;
@@ -116,6 +116,15 @@ IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& 
 			 o.relinearized_poses = k;
 		 },
 		 [](const O& o) { return std::to_string(o.relinearized_poses); }},
+	};
+}
+
+/** The keys of the readings: gate, robust loss, covariances, association and the young-readings rule. */
+IniKeys<SlidingWindowOptions> reading_keys(const std::string& section)
+{
+	using O = SlidingWindowOptions;
+	using namespace ini;
+	return {
 		bool_key<O>(section, "gate", "chi-square gate of the bearing-range readings (doc/outliers.md)",
 					&O::gate_readings),
 		number_key<O>(section, "gate_probability", "probability in (0, 1)",
@@ -149,5 +158,13 @@ IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& 
 					"fit their declared noise; false: for the whole run",
 					&O::young_readings_test),
 	};
+}
+}  // namespace
+
+IniKeys<SlidingWindowOptions> SlidingWindowOptions::ini_keys(const std::string& section)
+{
+	IniKeys<SlidingWindowOptions> keys = state_keys(section);
+	for (auto& k : reading_keys(section)) keys.push_back(std::move(k));
+	return keys;
 }
 }  // namespace swba::estimators
