@@ -12,6 +12,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <filesystem>
+#include <string>
 
 using namespace swba;
 using mrpt::poses::CPose3D;
@@ -43,7 +44,10 @@ mrpt::obs::CObservationRobotPose::Ptr robot_pose(double t, const std::string& la
 /** A rawlog written the way an MRPT driver writes one: bare observations, one archive. */
 std::string write_plain_rawlog(const CPose3D& lidar_on_body)
 {
-	const fs::path path = fs::temp_directory_path() / "swba_test_observation_rawlog.rawlog";
+	// Named after the running test: ctest runs the tests of this file in parallel processes.
+	const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+	const fs::path path =
+		fs::temp_directory_path() / ("swba_test_observation_rawlog_" + std::string(info->name()) + ".rawlog");
 	mrpt::io::CFileGZOutputStream f(path.string());
 	auto arch = mrpt::serialization::archiveFrom(f);
 	for (int k = 0; k <= 20; k++)
