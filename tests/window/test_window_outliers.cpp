@@ -102,6 +102,29 @@ TEST(Outliers, PlanarRobustScaleHasTwoDegreesOfFreedom)
 	EXPECT_EQ(down_weighted(false), 0u);
 }
 
+TEST(Outliers, ReadingsStillInTheWindowAreCountedDownWeightedAtTheFinalEstimate)
+{
+	// The rawlog of PlanarRobustScaleHasTwoDegreesOfFreedom: the 3.3 σ reading comes last, so no window
+	// marginalises it; it is counted at the final estimate, as the batch counts it at its solution (with
+	// W = 100 > 41 steps nothing is ever marginalised: the causal row's case).
+	io::Rawlog r;
+	for (std::size_t k = 0; k < 40; k++) r.steps.push_back(still_step(k, 5.0, true));
+	r.steps.push_back(still_step(40, 5.0 + 3.3 * kSigmaRange, true));
+	for (const std::size_t W : {5u, 100u})
+	{
+		SlidingWindowOptions o = gated();
+		o.model = PoseModel::Planar;
+		o.window_size = W;
+		o.gate_readings = false;
+		o.robust_loss = RobustLoss::Huber;
+		o.robust_probability = 0.99;
+		SlidingWindowEstimator est(o);
+		for (const auto& s : r.steps) est.process(s);
+		est.finish();
+		EXPECT_EQ(est.reading_counts().down_weighted, 1u) << "W = " << W;
+	}
+}
+
 TEST(Outliers, FirstReadingWaitsForAConsistentSecond)
 {
 	// A landmark whose first reading is 3 m off: the second (correct) reading does not confirm it, the

@@ -3,6 +3,8 @@
 
 #include <swba/factors/range_bearing.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -80,14 +82,17 @@ std::map<std::int32_t, Eigen::Vector3d> read_landmark_ground_truth(const std::st
 	std::string line;
 	for (int line_no = 1; std::getline(f, line); line_no++)
 	{
+		const auto first = line.find_first_not_of(" \t\r");
+		if (first == std::string::npos || line[first] == '#' || line[first] == '%') continue;  // blank, comment
 		std::istringstream in(line);
 		std::vector<double> v;
 		double x;
 		while (in >> x) v.push_back(x);
-		if (v.empty()) continue;
-		if (!in.eof() || v.size() < 4 || v.back() != static_cast<double>(static_cast<std::int32_t>(v.back())))
+		const bool finite = std::all_of(v.begin(), v.end(), [](double d) { return std::isfinite(d); });
+		if (!in.eof() || !finite || v.size() < 4 ||
+			v.back() != static_cast<double>(static_cast<std::int32_t>(v.back())))
 			throw std::runtime_error(path + ":" + std::to_string(line_no) +
-									 ": expected x y z ... id (numbers, the ID last and an integer)");
+									 ": expected x y z ... id (finite numbers, the ID last and an integer)");
 		out[static_cast<std::int32_t>(v.back())] = {v[0], v[1], v[2]};
 	}
 	if (out.empty()) throw std::runtime_error(path + ": no landmark in the ground truth");

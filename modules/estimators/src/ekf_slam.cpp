@@ -135,16 +135,18 @@ void load_base_options(Ekf& ekf, const std::vector<io::RawlogStep>& steps,
 			break;
 		}
 	if (!with_obs) return;
-	// A zero std means "not given" (2D sensors have sensor_std_pitch = 0): keep MRPT's default.
-	auto take = [&res](double v, float& dst, const char* name) {
+	// A zero std means "not given" (2D sensors have sensor_std_pitch = 0): keep MRPT's default, and say
+	// so unless an explicit option (apply_overrides) replaces it.
+	auto take = [&res](double v, float& dst, const char* name, bool overridden) {
 		if (v > 0)
 			dst = static_cast<float>(v);
-		else
+		else if (!overridden)
 			add_note(res, std::string("the observation's ") + name + " is 0: MRPT's default kept");
 	};
-	take(with_obs->sensor_std_range, ekf.options.std_sensor_range, "sensor_std_range");
-	take(with_obs->sensor_std_yaw, ekf.options.std_sensor_yaw, "sensor_std_yaw");
-	if (float* pitch = pitch_std(ekf)) take(with_obs->sensor_std_pitch, *pitch, "sensor_std_pitch");
+	take(with_obs->sensor_std_range, ekf.options.std_sensor_range, "sensor_std_range", options.std_range.has_value());
+	take(with_obs->sensor_std_yaw, ekf.options.std_sensor_yaw, "sensor_std_yaw", options.std_yaw.has_value());
+	if (float* pitch = pitch_std(ekf))
+		take(with_obs->sensor_std_pitch, *pitch, "sensor_std_pitch", options.std_pitch.has_value());
 }
 
 /** The explicit options over the INI / defaults, validated; the values used are recorded in `res`.

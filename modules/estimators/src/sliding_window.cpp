@@ -303,6 +303,12 @@ ReadingCounts SlidingWindowEstimator::reading_counts() const
 		c.down_weighted += static_cast<std::size_t>(s.down_weighted);
 		if (s.kept_relinearized > 0) c.young_held_steps++;
 	}
+	// The readings still in the window (never marginalised: all of them at W = inf) count at the current
+	// estimate, as the batch's count at its solution.
+	std::set<FactorId> in_window;
+	for (const auto& [id, lm] : impl_->graph.landmarks())
+		for (const auto& ob : lm.obs) in_window.insert(ob.factor);
+	c.down_weighted += static_cast<std::size_t>(impl_->graph.count_down_weighted(in_window));
 	return c;
 }
 const SlidingWindowOptions& SlidingWindowEstimator::options() const { return impl_->graph.options(); }

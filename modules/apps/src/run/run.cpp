@@ -111,8 +111,11 @@ void print_inputs(const RunOptions& options, const io::Rawlog& rawlog, const std
 			<< " not found; give --gt FILE): no APE\n";
 	else
 		log << "swba run: ground truth " << gt_path << "\n";
-	if (io::is_planar(rawlog.steps))
+	if (estimators::resolve_pose_model(options.window.model, rawlog.steps) == estimators::PoseModel::Planar)
 		log << "swba run: planar rawlog (2D odometry, readings without pitch): 2D model, MRPT's CRangeBearingKFSLAM2D\n";
+	else if (io::is_planar(rawlog.steps))
+		log << "swba run: planar rawlog (2D odometry, readings without pitch) run with the 6D model ([window] model "
+			   "= 6d), MRPT's CRangeBearingKFSLAM\n";
 	for (const auto& w : rawlog.warnings) log << "warning: " << w << "\n";
 	if (rawlog.warning_count > rawlog.warnings.size())
 		log << "warning: ... " << (rawlog.warning_count - rawlog.warnings.size()) << " more warnings\n";
@@ -128,74 +131,77 @@ estimators::DataAssociation resolve_association(estimators::DataAssociation a, c
 	return estimators::DataAssociation::Ids;
 }
 
-/** The truth of the readings' landmarks: their own IDs when every reading has one, else the
- * simulator's landmark ground truth next to the rawlog with the robot path (empty: unknown). */
 /** The landmark IDs of `path`, a rawlog with the same readings as `rawlog` in the same order (throws
- * std::runtime_error naming the file and the first step that differs). */
+ * std::runtime_error naming the file and the first step that differs, or the first reading without an ID). */
 estimators::ReadingIds ids_from_rawlog(const std::string& path, const io::Rawlog& rawlog)
 {
 	io::RawlogReaderOptions ro;
 	ro.max_steps = rawlog.steps.size();
+	ro.require_landmark_ids = false;  // a reading without one is named below, as this file's fault
 	const io::Rawlog truth = io::read_rawlog(path, ro);
+	const std::string what = "association truth '" + path + "': ";
 	if (truth.steps.size() != rawlog.steps.size())
-		throw std::runtime_error("association truth '" + path + "': " + std::to_string(truth.steps.size()) +
-								 " steps, the rawlog has " + std::to_string(rawlog.steps.size()));
+		throw std::runtime_error(what + std::to_string(truth.steps.size()) + " steps, the rawlog has " +
+								 std::to_string(rawlog.steps.size()));
 	for (std::size_t k = 0; k < truth.steps.size(); k++)
 	{
 		const auto& a = truth.steps[k].readings;
 		const auto& b = rawlog.steps[k].readings;
 		bool same = a.size() == b.size();
 		for (std::size_t i = 0; same && i < a.size(); i++)
-			same = a[i].range == b[i].range && a[i].yaw == b[i].yaw && a[i].landmark_id >= 0;
-		if (!same)
-			throw std::runtime_error("association truth '" + path + "': step " + std::to_string(k) +
-									 " does not hold the rawlog's readings with their landmark IDs");
+		{
+			same = a[i].range == b[i].range && a[i].yaw == b[i].yaw;
+			if (same && a[i].landmark_id < 0)
+				throw std::runtime_error(what + "step " + std::to_string(k) + ", reading " + std::to_string(i) +
+										 " has no landmark ID: the truth must be the rawlog with its IDs");
+		}
+		if (!same) throw std::runtime_error(what + "step " + std::to_string(k) + " does not hold the rawlog's readings");
 	}
 	return estimators::reading_ids(truth);
 }
 
-estimators::ReadingIds association_truth(const io::Rawlog& rawlog, const RunOptions& options,
-										 const std::vector<mrpt::poses::CPose3D>& gt, std::string& source)
+/** The truth of the readings' landmarks and where it comes from (ids empty: unknown). */
+struct AssociationTruth
+{
+	estimators::ReadingIds ids;
+	std::string source;
+};
+
+/** The truth of the readings' landmarks: --association-truth's IDs; else the readings' own IDs when every
+ * reading has one; else the simulator's landmark ground truth next to the rawlog with the robot path.
+ * Read before any estimator runs, so that a bad truth file fails at once. */
+AssociationTruth read_association_truth(const io::Rawlog& rawlog, const RunOptions& options,
+										const std::vector<mrpt::poses::CPose3D>& gt)
 {
 	if (!options.association_truth.empty())
-	{
-		source = options.association_truth + " (its landmark IDs)";
-		return ids_from_rawlog(options.association_truth, rawlog);
-	}
-	const std::string& rawlog_path = options.rawlog;
+		return {ids_from_rawlog(options.association_truth, rawlog), options.association_truth + " (its landmark IDs)"};
 	bool all_ids = true;
 	for (const auto& st : rawlog.steps)
 		for (const auto& r : st.readings) all_ids = all_ids && r.landmark_id >= 0;
-	if (all_ids)
-	{
-		source = "the rawlog's landmark IDs";
-		return estimators::reading_ids(rawlog);
-	}
-	const std::string path = eval::default_landmarks_path(rawlog_path);
+	if (all_ids) return {estimators::reading_ids(rawlog), "the rawlog's landmark IDs"};
+	const std::string path = eval::default_landmarks_path(options.rawlog);
 	if (gt.empty() || !mrpt::system::fileExists(path)) return {};
-	source = path;
 	// Landmarks are points a few metres apart in simulated maps; a reading's point lies within a few
 	// sensor sigmas of its landmark. 0.5 m leaves a reading of no landmark unmatched.
-	return estimators::true_landmarks_of_readings(rawlog, gt, estimators::read_landmark_ground_truth(path), 0.5);
+	return {estimators::true_landmarks_of_readings(rawlog, gt, estimators::read_landmark_ground_truth(path), 0.5),
+			path};
 }
 
 /** Association quality of every row with assigned IDs, as a note per estimator. */
-void add_association_quality(RunReport& report, const io::Rawlog& rawlog, const RunOptions& options,
-							 const std::vector<mrpt::poses::CPose3D>& gt, std::ostream& log)
+void add_association_quality(RunReport& report, const AssociationTruth& truth, const RunOptions& options,
+							 std::ostream& log)
 {
-	std::string source;
-	const estimators::ReadingIds truth = association_truth(rawlog, options, gt, source);
-	if (truth.empty())
+	if (truth.ids.empty())
 	{
 		report.notes.push_back("data association (" + std::string(enum_name(options.window.association)) +
 							   "): no ground truth of the landmarks found, quality not measured");
 		return;
 	}
-	log << "swba run: association quality against " << source << "\n";
+	log << "swba run: association quality against " << truth.source << "\n";
 	for (auto& r : report.rows)
 	{
 		if (r.assigned_ids.empty() || r.failed) continue;
-		r.association = estimators::evaluate_association(r.assigned_ids, truth);
+		r.association = estimators::evaluate_association(r.assigned_ids, truth.ids);
 		if (r.trajectory != "lagged") report.notes.push_back(format_association_note(r));
 	}
 }
@@ -404,12 +410,15 @@ RunReport run_app(const RunOptions& given, std::ostream& out, std::ostream& log,
 {
 	if (given.rawlog.empty()) throw std::invalid_argument("no rawlog given");
 	given.validate();
-	if (io::is_observation_rawlog(given.rawlog)) return run_inertial_app(given, out, log);
+	if (io::is_observation_rawlog(given.rawlog)) return run_inertial_app(given, out, log, stop_requested);
 
 	io::RawlogReaderOptions ro;
 	ro.max_steps = given.max_steps;
 	ro.require_landmark_ids = given.window.association == estimators::DataAssociation::Ids;
 	const io::Rawlog rawlog = io::read_rawlog(given.rawlog, ro);
+	if (given.window.model == estimators::PoseModel::Planar && !io::is_planar(rawlog.steps))
+		throw std::runtime_error("rawlog '" + given.rawlog + "' is not planar (3D odometry or readings with pitch): "
+								 "[window] model = 2d needs a planar rawlog (auto or 6d reads this one)");
 	RunOptions options = given;
 	options.window.association = resolve_association(given.window.association, rawlog);
 
@@ -428,6 +437,8 @@ RunReport run_app(const RunOptions& given, std::ostream& out, std::ostream& log,
 			<< rawlog.steps.size() << " steps (" << rawlog.steps.size() + 1
 			<< " rows used): is the rawlog cut short, or the ground truth another run's?\n";
 	print_inputs(options, rawlog, gt_path, log);
+	const bool associating = options.window.association != estimators::DataAssociation::Ids;
+	const AssociationTruth truth = associating ? read_association_truth(rawlog, options, gt) : AssociationTruth{};
 	prepare_output_directory(options.out_dir, "swba run", log);
 
 	RunControl control;
@@ -441,8 +452,7 @@ RunReport run_app(const RunOptions& given, std::ostream& out, std::ostream& log,
 	};
 	RunReport report = run_estimators(options, rawlog, gt, log, control);
 	report.ground_truth = gt_path;
-	if (options.window.association != estimators::DataAssociation::Ids)
-		add_association_quality(report, rawlog, options, gt, log);
+	if (associating) add_association_quality(report, truth, options, log);
 	write_run_outputs(options, gt, report);
 	out << format_comparison_table(report) << std::flush;
 	for (const auto& note : report.notes) log << "note: " << note << "\n";

@@ -265,7 +265,8 @@ struct ReadingCounts
 	/** Readings never used by the estimate: gated and not re-admitted, plus the unconfirmed. */
 	std::size_t excluded = 0;
 	/** Readings whose whitened residual lay beyond the robust loss's scale (Huber weight < 1, Cauchy
-	 * weight < 1/2) when they entered the marginal prior (window) / at the solution (batch). */
+	 * weight < 1/2) when they entered the marginal prior (window; the readings still in the window at
+	 * the end, all of them at W = inf, at the final estimate) / at the solution (batch). */
 	std::size_t down_weighted = 0;
 	/** Window: steps after which poses were kept re-linearised for young landmarks' readings
 	 * (SlidingWindowOptions::young_landmark_readings). */
