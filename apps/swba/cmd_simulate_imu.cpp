@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <sstream>
 
 #include "cli.h"
 #include "command.h"
@@ -18,6 +19,22 @@ const char* const kAbout =
 		"DIR/NAME.rawlog, DIR/NAME_ground_truth.tum (every IMU time), DIR/NAME_ground_truth_robot_path.txt (MRPT "
 		"format, one row per pose prior), DIR/NAME_ground_truth_state.txt (pose, velocity, biases) and DIR/NAME.ini "
 		"(sensor roles and IMU noise for swba run).";
+
+/** Throws UsageError naming the flags when the keyframe rate `flag` (--pose-rate, or --odometry-rate
+ * without pose priors: swba run's default keyframes) leaves fewer than two IMU intervals between
+ * keyframes: an IMU factor between two of them needs an IMU reading strictly between
+ * (InertialSimulateOptions::validate checks the same by option name; this names the flags). */
+void check_keyframe_rate(const problems::InertialSimulationOptions& s, TCLAP::ValueArg<double>* flag)
+{
+	const double rate = flag->getValue();
+	if (!(std::isfinite(s.imu_rate) && s.imu_rate > 0) || !(rate > 0) || s.imu_rate / rate >= 2 - 1e-9) return;
+	std::ostringstream m;  // an invalid --imu-rate is left to validate(), which names it
+	m << "--" << flag->getName() << " " << rate << " with --imu-rate " << s.imu_rate
+	  << " leaves fewer than two IMU intervals between keyframes, which swba run needs (an IMU reading between "
+		 "them): give at most --imu-rate / 2 = "
+	  << s.imu_rate / 2 << (flag->getName() == "pose-rate" ? ", or 0 for none" : "");
+	throw UsageError(m.str());
+}
 
 int run_simulate_imu(int argc, char** argv)
 {
@@ -66,6 +83,7 @@ int run_simulate_imu(int argc, char** argv)
 		s.seed = seed.getValue();
 		o.out_dir = out.getValue();
 		o.name = name.getValue();
+		check_keyframe_rate(s, s.pose_rate > 0 ? &pose_rate : &odo_rate);
 		o.validate();
 	}
 	catch (const std::invalid_argument& e)

@@ -381,3 +381,13 @@ set_tests_properties(apps.cli.new_user_walkthrough PROPERTIES PASS_REGULAR_EXPRE
 
 # test_run_nees.cpp tests swba run's consistency figures through the private header of modules/apps/src/run.
 target_include_directories(swba_test_apps PRIVATE ${CMAKE_SOURCE_DIR}/modules/apps/src/run)
+
+# swba simulate-imu refuses keyframe rates that leave no IMU reading between keyframes (swba run's IMU
+# factors need two integration steps), naming the flags; fast odometry between pose priors is composed.
+swba_cli_case(simulate_imu_pose_rate_at_imu_rate 2
+  REGEX "^swba simulate-imu: error: --pose-rate 100 with --imu-rate 100 leaves fewer than two IMU intervals between keyframes, [^\n]*give at most --imu-rate / 2 = 50, or 0 for none"
+  ARGS simulate-imu --duration 3 --pose-rate 100 --odometry-rate 100 --out ${_out}/simulate_imu_pose_rate_at_imu_rate)
+swba_cli_case(simulate_imu_odometry_keyframes_at_imu_rate 2
+  REGEX "^swba simulate-imu: error: --odometry-rate 100 with --imu-rate 100 leaves fewer than two IMU intervals"
+  ARGS simulate-imu --duration 3 --pose-rate 0 --odometry-rate 100 --out ${_out}/simulate_imu_odometry_at_imu_rate)
+

@@ -5,7 +5,8 @@
 #include <swba/io/rawlog.h>
 
 #include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/io/CMemoryStream.h>
+#include <mrpt/io/zip.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <Eigen/Eigenvalues>
@@ -126,11 +127,33 @@ mrpt::obs::CObservationRobotPose::Ptr make_pose_observation(double origin, doubl
 
 void write_observation_rawlog(const std::string& path, const std::vector<mrpt::obs::CObservation::Ptr>& objects)
 {
-	mrpt::io::CFileGZOutputStream f;
-	if (!f.open(path)) throw std::runtime_error("rawlog '" + path + "': cannot open for writing");
-	auto arch = mrpt::serialization::archiveFrom(f);
-	for (const auto& o : objects) arch << *o;
-	f.close();
+	// Through the atomic writer (MRPT's gzip stream drops write errors): the objects are serialised in
+	// chunks of about 8 MiB, each written as one gzip member; zlib's readers (CFileGZInputStream) read the
+	// concatenated members as one stream.
+	constexpr std::size_t kChunkBytes = std::size_t(8) << 20;
+	write_file_atomically(
+			path,
+			[&](std::ostream& f) {
+				mrpt::io::CMemoryStream chunk;
+				auto arch = mrpt::serialization::archiveFrom(chunk);
+				auto flush = [&] {
+					if (chunk.getTotalBytesCount() == 0) return;
+					const auto* begin = static_cast<const uint8_t*>(chunk.getRawBufferData());
+					const std::vector<uint8_t> raw(begin, begin + chunk.getTotalBytesCount());
+					std::vector<uint8_t> gz;
+					if (!mrpt::io::zip::compress_gz_data_block(raw, gz, 1))
+						throw std::runtime_error("rawlog '" + path + "': gzip compression failed");
+					f.write(reinterpret_cast<const char*>(gz.data()), static_cast<std::streamsize>(gz.size()));
+					chunk.clear();
+				};
+				for (const auto& o : objects)
+				{
+					arch << *o;
+					if (chunk.getTotalBytesCount() >= kChunkBytes) flush();
+				}
+				flush();
+			},
+			std::ios::binary);
 }
 
 bool is_observation_rawlog(const std::string& path)

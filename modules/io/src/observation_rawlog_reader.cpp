@@ -12,6 +12,7 @@
 #include <chrono>
 #include <map>
 #include <optional>
+#include <set>
 #include <stdexcept>
 
 namespace swba::io
@@ -50,6 +51,8 @@ class ObservationReader
 	void take(const mrpt::serialization::CSerializable::Ptr& obj);
 	void take_imu(const CObservationIMU& o);
 	void take_pose(const CObservationRobotPose& o);
+	void check_role_labels(const std::vector<std::string>& role, const std::string& key,
+						   const std::string& class_name) const;
 	void convert();
 	PoseReading to_imu_frame(const RawPose& p, const CPose3D& covariance_at) const;
 
@@ -62,7 +65,29 @@ class ObservationReader
 	std::vector<RawPose> priors_, odometry_;
 	std::map<std::string, mrpt::Clock::time_point> last_ts_;
 	std::optional<mrpt::Clock::time_point> origin_;
+	std::map<std::string, std::set<std::string>> labels_;  ///< the sensor labels read, per observation class
 };
+
+/** Throws naming the first label of a role that no observation of `class_name` read carries, with the
+ * labels the rawlog holds. */
+void ObservationReader::check_role_labels(const std::vector<std::string>& role, const std::string& key,
+										  const std::string& class_name) const
+{
+	const auto it = labels_.find(class_name);
+	for (const auto& label : role)
+	{
+		if (it != labels_.end() && it->second.count(label)) continue;
+		std::string held;
+		for (const auto& [cls, names] : labels_)
+		{
+			held += held.empty() ? "" : "; ";
+			held += cls;
+			for (const auto& n : names) held += (&n == &*names.begin() ? " '" : ", '") + n + "'";
+		}
+		fail("[sensors] " + key + " = " + label + ": no " + class_name + " has that label (the rawlog holds " +
+			 (held.empty() ? "no observation" : held) + ")");
+	}
+}
 
 void ObservationReader::take_imu(const CObservationIMU& o)
 {
@@ -94,6 +119,10 @@ void ObservationReader::take_pose(const CObservationRobotPose& o)
 		out_.ignored_entries++;
 		return;
 	}
+	// A NaN would pass every check below and reach the estimators as a NaN residual.
+	if (!o.pose.mean.asVectorVal().asEigen().allFinite() || !o.pose.mean.getRotationMatrix().asEigen().allFinite())
+		fail(at_entry() + "pose of '" + o.sensorLabel + "' is not finite (x y z yaw pitch roll, degrees: " +
+			 o.pose.mean.asString() + ")");
 	const Matrix6d S = o.pose.cov.asEigen();
 	if (!S.allFinite() || (S - S.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(1.0, S.cwiseAbs().maxCoeff()))
 		fail(at_entry() + "covariance of '" + o.sensorLabel + "' is not finite and symmetric");
@@ -117,6 +146,8 @@ void ObservationReader::take(const mrpt::serialization::CSerializable::Ptr& obj)
 		out_.ignored_entries++;
 		return;
 	}
+	const std::string class_name = obs->GetRuntimeClass()->className;  // "mrpt::obs::CObservationIMU"
+	labels_[class_name.substr(class_name.rfind(':') + 1)].insert(obs->sensorLabel);
 	const std::string key = obs->GetRuntimeClass()->className + std::string("/") + obs->sensorLabel;
 	auto it = last_ts_.find(key);
 	if (it != last_ts_.end() && obs->timestamp < it->second)
@@ -204,6 +235,9 @@ ObservationRawlog ObservationReader::run()
 		out_.entries++;
 		take(obj);
 	}
+	check_role_labels(roles_.imu, "imu", "CObservationIMU");
+	check_role_labels(roles_.pose_prior, "pose_prior", "CObservationRobotPose");
+	check_role_labels(roles_.odometry, "odometry", "CObservationRobotPose");
 	if (imu_.empty() && priors_.empty() && odometry_.empty())
 		fail("no CObservationIMU or CObservationRobotPose with a role (" + std::to_string(out_.entries) + " entries)");
 	convert();

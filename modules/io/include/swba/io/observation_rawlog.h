@@ -95,7 +95,9 @@ mrpt::obs::CObservationRobotPose::Ptr make_pose_observation(double origin, doubl
  * the local tangent is `tangent_covariance`: J⁻¹ Σ J⁻ᵀ with J = ypr_to_tangent_jacobian(at). */
 Eigen::Matrix<double, 6, 6> ypr_covariance_from_tangent(const mrpt::poses::CPose3D& at,
 														const Eigen::Matrix<double, 6, 6>& tangent_covariance);
-/** Writes the objects in order to a gzip-compressed rawlog. Throws std::runtime_error naming the path. */
+/** Writes the objects in order to a gzip-compressed rawlog (concatenated gzip members of about 8 MiB of
+ * objects each), through write_file_atomically: throws std::runtime_error "cannot write '<path>': <OS
+ * reason>". */
 void write_observation_rawlog(const std::string& path, const std::vector<mrpt::obs::CObservation::Ptr>& objects);
 
 /** The adjoint map of a constant right factor C: for Z·PseudoExp(δ)·C = (Z·C)·PseudoExp(A·δ) to first
