@@ -3,6 +3,7 @@
 #include <swba/apps/bal.h>
 
 #include <iostream>
+#include <stdexcept>
 
 #include "cli.h"
 #include "command.h"
@@ -40,6 +41,7 @@ struct BalCommandLine
 	TCLAP::SwitchArg quiet = swba::app::quiet_arg(cmd);
 };
 
+/** The typed options; the checks name the flags (bad values are usage errors). */
 swba::apps::BalAppOptions options_from(BalCommandLine& a)
 {
 	using swba::app::UsageError;
@@ -61,17 +63,23 @@ swba::apps::BalAppOptions options_from(BalCommandLine& a)
 	o.solver.linear_solver = swba::parse_linear_solver(ls);
 	if (o.solver.num_threads < 1) throw UsageError("--threads must be >= 1");
 	if (o.solver.max_iterations < 0) throw UsageError("--max-iterations must be >= 0");
+	if (!(o.solver.function_tolerance >= 0)) throw UsageError("--function-tolerance must be >= 0");
+	if (!(o.solver.gradient_tolerance >= 0)) throw UsageError("--gradient-tolerance must be >= 0");
+	if (!(o.solver.parameter_tolerance >= 0)) throw UsageError("--parameter-tolerance must be >= 0");
 	if (!(o.loss_scale > 0)) throw UsageError("--loss-scale must be > 0");
 	swba::app::validate_usage(o.solver);
-	o.loss = swba::parse_enum<swba::RobustLoss>(a.loss.getValue(), "loss");
+	try
+	{
+		o.loss = swba::parse_enum<swba::RobustLoss>(a.loss.getValue(), "loss");
+	}
+	catch (const std::invalid_argument& e)
+	{
+		throw UsageError(e.what());
+	}
 	return o;
 }
 
-int run_bal(BalCommandLine& args)
-{
-	const auto result = swba::apps::run_bal_app(options_from(args), std::cout, std::cerr);
-	return result.summary.is_solution_usable() ? 0 : 1;
-}
+// A failed optimisation throws (after the report): main prints "swba bal: error: optimisation failed: …", exit 1.
 SWBA_REGISTER_COMMAND("bal", "bundle adjustment of a BAL problem (Snavely cameras), PLY output",
-					  swba::app::parsed_command<BalCommandLine>(run_bal));
+					  swba::app::app_command<BalCommandLine>(swba::apps::run_bal_app));
 }  // namespace

@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <iostream>
+#include <stdexcept>
+#include <string>
 
 #include "cli.h"
 #include "command.h"
@@ -57,8 +59,13 @@ swba::apps::DirectBAAppOptions options_from(DirectbaCommandLine& a)
 	opt.sigma = a.sigma.getValue();
 	opt.huber_delta = a.huber_delta.getValue();
 	opt.factor.border = a.border.getValue();
-	if (a.huber_delta.getValue() < 0) throw UsageError("--huber-delta must be >= 0");
+	if (opt.solver.max_iterations < 0) throw UsageError("--iterations must be >= 0");
+	if (opt.solver.num_threads < 1) throw UsageError("--threads must be >= 1");
+	if (!(opt.sigma > 0) || !std::isfinite(opt.sigma)) throw UsageError("--sigma must be a number > 0");
+	if (!(a.huber_delta.getValue() >= 0) || !std::isfinite(a.huber_delta.getValue()))
+		throw UsageError("--huber-delta must be a number >= 0");
 	if (a.fixed_cameras.isSet() && a.fixed_cameras.getValue() < 0) throw UsageError("--fixed-cameras must be >= 0");
+	if (opt.factor.border < 0) throw UsageError("--border must be >= 0");
 	swba::app::validate_usage(opt);
 	o.synthetic = a.synthetic.getValue();
 	o.dataset_dir = a.dir.getValue();
@@ -73,11 +80,28 @@ swba::apps::DirectBAAppOptions options_from(DirectbaCommandLine& a)
 	return o;
 }
 
+/** The app; more fixed cameras than the data set has is a bad --fixed-cameras (exit 2), a failed synthetic
+ * check an error line after its report (exit 1). */
 int run_directba(DirectbaCommandLine& args)
 {
 	const auto options = options_from(args);
-	const auto result = swba::apps::run_directba_app(options, std::cout, std::cerr);
-	return !options.synthetic || result.synthetic_pass ? 0 : 1;
+	swba::apps::DirectBAAppResult result;
+	try
+	{
+		result = swba::apps::run_directba_app(options, std::cout, std::cerr);
+	}
+	catch (const swba::apps::DirectBAFixedCamerasError& e)
+	{
+		throw swba::app::UsageError("--fixed-cameras " + std::to_string(e.fixed_cameras) + " is more than the " +
+									std::to_string(e.num_cameras) + " cameras of " +
+									(options.synthetic ? "the synthetic room" : "'" + options.dataset_dir + "'"));
+	}
+	if (options.synthetic && !result.synthetic_pass)
+		throw std::runtime_error(result.result.summary.is_solution_usable()
+									 ? "synthetic check failed: the recovery misses its bounds (poses <= 1 mm / "
+									   "0.05 deg, every point <= 1 cm)"
+									 : "synthetic check failed: optimisation failed: " + result.result.summary.message);
+	return 0;
 }
 SWBA_REGISTER_COMMAND("directba", "direct (photometric) bundle adjustment, 4x4 patches",
 					  swba::app::parsed_command<DirectbaCommandLine>(run_directba));

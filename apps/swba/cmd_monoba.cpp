@@ -4,6 +4,8 @@
 
 #include <iostream>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "cli.h"
 #include "command.h"
@@ -67,12 +69,17 @@ void set_scene(MonobaCommandLine& a, swba::problems::MonoBASceneOptions& so)
 		throw std::invalid_argument("--seed must be in [0, " + std::to_string(std::numeric_limits<unsigned>::max()) +
 									"]");
 	so.seed = static_cast<unsigned>(a.seed.getValue());
-	so.pose_noise_from = a.fix.getValue();
+	so.pose_noise_from = 0;  // set from --fix once the number of cameras is known to be valid
 	so.validate();
+	if (a.fix.getValue() < 1 || a.fix.getValue() > so.cameras)
+		throw std::invalid_argument("--fix " + std::to_string(a.fix.getValue()) + " is out of range [1, " +
+									std::to_string(so.cameras) + "] (number of cameras)");
+	so.pose_noise_from = a.fix.getValue();
 }
 
-/** Gauge, anchors and weight, with the flag combinations that make no sense rejected. */
-void set_adjustment(MonobaCommandLine& a, int num_cameras, swba::apps::MonoBAOptions& mo)
+/** Gauge, anchors and weight, with the flag combinations that make no sense rejected (--fix is in range:
+ * set_scene checked it). */
+void set_adjustment(MonobaCommandLine& a, swba::apps::MonoBAOptions& mo)
 {
 	using swba::GaugeMode;
 	const bool sweep = a.sweep.getValue();
@@ -84,13 +91,12 @@ void set_adjustment(MonobaCommandLine& a, int num_cameras, swba::apps::MonoBAOpt
 		throw std::invalid_argument("--fix has no effect with --gauge free");
 	if (!sweep && mo.gauge != GaugeMode::Prior && a.prior_weight.isSet())
 		throw std::invalid_argument("--prior-weight needs --gauge prior");
-	if (a.fix.getValue() < 1 || a.fix.getValue() > num_cameras)
-		throw std::invalid_argument("--fix " + std::to_string(a.fix.getValue()) + " is out of range [1, " +
-									std::to_string(num_cameras) + "] (number of cameras)");
 	mo.anchors = a.fix.getValue();
 	mo.prior_weight = a.prior_weight.getValue();
 	mo.solver.max_iterations = a.max_iterations.getValue();
 	mo.solver.num_threads = a.threads.getValue();
+	if (mo.solver.max_iterations < 0) throw std::invalid_argument("--max-iterations must be >= 0");
+	if (mo.solver.num_threads < 1) throw std::invalid_argument("--threads must be >= 1");
 	mo.solver.progress_to_stdout = a.progress.getValue() && !sweep;
 	mo.validate();
 }
@@ -102,7 +108,7 @@ swba::apps::MonoBAAppOptions options_from(MonobaCommandLine& a)
 	try
 	{
 		set_scene(a, o.scene);
-		set_adjustment(a, o.scene.cameras, o.adjustment);
+		set_adjustment(a, o.adjustment);
 		o.sweep = a.sweep.getValue();
 		o.sweep_seeds = a.seeds.getValue();
 		o.repetitions = a.repetitions.getValue();

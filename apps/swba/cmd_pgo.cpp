@@ -2,7 +2,10 @@
 // Logic in swba/apps/pgo.h.
 #include <swba/apps/pgo.h>
 
+#include <cstdio>
 #include <iostream>
+#include <stdexcept>
+#include <string>
 
 #include "cli.h"
 #include "command.h"
@@ -86,15 +89,26 @@ swba::apps::PgoAppOptions options_from(PgoCommandLine& a)
 			throw std::invalid_argument("--linear " + a.linear.getValue() +
 										": a pose graph has no variables to eliminate (use auto, dense-normal "
 										"or sparse-normal)");
+		o.solver.max_iterations = a.max_iterations.getValue();
+		o.solver.num_threads = a.threads.getValue();
+		o.solver.function_tolerance = a.function_tolerance.getValue();
+		o.solver.initial_trust_region_radius = a.initial_radius.getValue();
+		if (o.solver.max_iterations < 0) throw std::invalid_argument("--max-iterations must be >= 0");
+		if (o.solver.num_threads < 1) throw std::invalid_argument("--threads must be >= 1");
+		if (!(o.solver.function_tolerance >= 0)) throw std::invalid_argument("--function-tolerance must be >= 0");
+		const double max_radius = o.solver.max_trust_region_radius;
+		if (!(o.solver.initial_trust_region_radius > 0 && o.solver.initial_trust_region_radius <= max_radius))
+		{
+			char buf[32];
+			std::snprintf(buf, sizeof buf, "%g", max_radius);
+			throw std::invalid_argument(std::string("--initial-trust-region must be in (0, ") + buf +
+										"] (the maximum trust-region radius)");
+		}
 	}
 	catch (const std::invalid_argument& e)
 	{
 		throw swba::app::UsageError(e.what());
 	}
-	o.solver.max_iterations = a.max_iterations.getValue();
-	o.solver.num_threads = a.threads.getValue();
-	o.solver.function_tolerance = a.function_tolerance.getValue();
-	o.solver.initial_trust_region_radius = a.initial_radius.getValue();
 	o.solver.progress_to_stdout = !a.quiet.getValue();
 	swba::app::validate_usage(o);
 	return o;

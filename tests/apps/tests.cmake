@@ -391,3 +391,61 @@ swba_cli_case(simulate_imu_odometry_keyframes_at_imu_rate 2
   REGEX "^swba simulate-imu: error: --odometry-rate 100 with --imu-rate 100 leaves fewer than two IMU intervals"
   ARGS simulate-imu --duration 3 --pose-rate 0 --odometry-rate 100 --out ${_out}/simulate_imu_odometry_at_imu_rate)
 
+# Solver commands (bal, pgo, directba, monoba): a bad value of an option is a usage error naming the flag
+# (exit 2), never an internal field; a failed solve, or one with nothing to fit, exits 1 with one error line
+# after the report; a result that is not finite is never written or reported as a success.
+set(_solver_inputs ${CMAKE_CURRENT_BINARY_DIR}/solver_inputs)
+file(MAKE_DIRECTORY ${_solver_inputs})
+swba_cli_case(bal_unknown_loss 2
+  REGEX "^swba bal: error: unknown loss 'bogus' \\(expected none, huber or cauchy\\) \\(see --help\\)\n$"
+  ARGS bal ${_binary} --loss bogus)
+swba_cli_case(bal_function_tolerance_negative 2 REGEX "^swba bal: error: --function-tolerance must be >= 0 \\(see --help\\)"
+  ARGS bal ${_binary} --function-tolerance -1)
+swba_cli_case(pgo_max_iterations_negative 2 REGEX "^swba pgo: error: --max-iterations must be >= 0 \\(see --help\\)"
+  ARGS pgo ${_binary} --max-iterations -1)
+swba_cli_case(pgo_threads_zero 2 REGEX "^swba pgo: error: --threads must be >= 1 \\(see --help\\)"
+  ARGS pgo ${_binary} --threads 0)
+swba_cli_case(pgo_initial_trust_region_zero 2
+  REGEX "^swba pgo: error: --initial-trust-region must be in \\(0, 1e\\+16. \\(the maximum trust-region radius\\) \\(see --help\\)"
+  ARGS pgo ${_binary} --initial-trust-region 0)
+swba_cli_case(directba_sigma_zero 2 REGEX "^swba directba: error: --sigma must be a number > 0 \\(see --help\\)"
+  ARGS directba ${SWBA_DATA_DIR}/directba --sigma 0)
+swba_cli_case(directba_more_fixed_cameras_than_cameras 2
+  REGEX "swba directba: error: --fixed-cameras 8 is more than the 7 cameras of '[^']*directba' \\(see --help\\)\n$"
+  ARGS directba ${SWBA_DATA_DIR}/directba --fixed-cameras 8 -q)
+swba_cli_case(monoba_max_iterations_negative 2 REGEX "^swba monoba: error: --max-iterations must be >= 0 \\(see --help\\)"
+  ARGS monoba --max-iterations -1)
+swba_cli_case(monoba_fix_zero 2 REGEX "^swba monoba: error: --fix 0 is out of range \\[1, 3\\] \\(number of cameras\\) \\(see --help\\)"
+  ARGS monoba --fix 0)
+# f = 1e300: the initial cost is not finite (FAILURE): the line on stderr (BalSolve.EveryFactorDropped… checks
+# that a failed solve writes no solution).
+file(WRITE ${_solver_inputs}/bal_huge_focal.txt "1 2 2\n0 0 1 1\n0 1 2 2\n0 0 0 0 0 -5 1e300 0 0\n0.1 0 0\n0 0.1 0\n")
+swba_cli_case(bal_solver_failure_has_error_line 1
+  REGEX "Termination: FAILURE \\(initial cost is not finite\\)\n.*swba bal: error: optimisation failed: initial cost is not finite\n$"
+  ARGS bal ${_solver_inputs}/bal_huge_focal.txt -q)
+# Every point on its camera's plane, every patch outside its image: no factor evaluable, nothing fitted.
+file(WRITE ${_solver_inputs}/bal_points_on_camera_plane.txt "1 1 1\n0 0 1 1\n0 0 0 0 0 -5 500 0 0\n0 0 5\n")
+swba_cli_case(bal_every_factor_dropped 1
+  REGEX "Termination: FAILURE \\(every factor dropped at the initial values: nothing to fit\\)\n.*swba bal: error: optimisation failed: every factor dropped at the initial values: nothing to fit\n$"
+  ARGS bal ${_solver_inputs}/bal_points_on_camera_plane.txt -q)
+swba_cli_case(directba_every_factor_dropped 1
+  REGEX "Factors +28826 \\(28826 dropped at the solution\\).*Termination: FAILURE \\(every factor dropped at the initial values: nothing to fit\\).*swba directba: error: optimisation failed: every factor dropped at the initial values: nothing to fit\n$"
+  ARGS directba ${SWBA_DATA_DIR}/directba -q --border 300)
+swba_cli_case(directba_synthetic_fail_has_error_line 1
+  REGEX "Synthetic check: FAIL .*swba directba: error: synthetic check failed: the recovery misses its bounds"
+  ARGS directba --synthetic -q --iterations 0)
+# An empty or comment-only g2o file: the file named.
+file(WRITE ${_solver_inputs}/pgo_empty.g2o "")
+file(WRITE ${_solver_inputs}/pgo_comment_only.g2o "# only a comment\n")
+foreach(_g empty comment_only)
+  swba_cli_case(pgo_${_g}_file_named 1
+    REGEX "^swba pgo: error: g2o file '[^']*pgo_${_g}.g2o': no vertices \\(no VERTEX_SE3:QUAT or VERTEX_SE2 line\\): nothing to optimise\n$"
+    ARGS pgo ${_solver_inputs}/pgo_${_g}.g2o -q)
+endforeach()
+# A finite positive-definite information of 1e308 overflows the chordal initialisation: an error naming the
+# method and the vertex before anything is written (G2oWriter.RefusesNonFiniteVertexValues: never a NaN graph).
+file(WRITE ${_solver_inputs}/pgo_huge_information.g2o
+  "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nEDGE_SE2 0 1 2 0 0 1e308 0 0 1e308 0 1e308\n")
+swba_cli_case(pgo_non_finite_initial_values 1
+  REGEX "swba pgo: error: chordal initialisation gave a non-finite value to vertex 1 \\(x y theta = [-]?nan [-]?nan 0\\)"
+  ARGS pgo ${_solver_inputs}/pgo_huge_information.g2o -q)

@@ -190,6 +190,18 @@ TEST(BalReader, HugeDeclaredCountsAreATruncationNotAnAllocation)
 	EXPECT_NE(what.find("truncated"), std::string::npos) << what;
 }
 
+// A count above swba's limit is named as such, not as a non-positive count.
+TEST(BalReader, CountAboveTheLimitNamesTheLimit)
+{
+	std::string what;
+	EXPECT_EQ(error_line("1000000000 1000000000 2000000000\n0 0 1 1\n", &what), 1);
+	EXPECT_NE(what.find("num_observations must be at most 1000000000 (swba's limit), found '2000000000'"),
+			  std::string::npos)
+		<< what;
+	EXPECT_EQ(error_line("0 1 1\n", &what), 1);
+	EXPECT_NE(what.find("num_cameras must be positive, found '0'"), std::string::npos) << what;
+}
+
 TEST(BalReader, ReportsMissingFileAndUnsupportedCompression)
 {
 	EXPECT_THROW(swba::io::read_bal("/nonexistent/problem.txt"), std::runtime_error);

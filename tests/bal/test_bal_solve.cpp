@@ -1,9 +1,10 @@
 // swba::solve on BAL: one LM step equals a dense LM step on the full (not Schur-reduced) normal
 // equations built here from the factors' Jacobians; short solves agree across linear solvers and
-// thread counts.
+// thread counts; a problem with no evaluable factor fails.
 #include <gtest/gtest.h>
 
 #include "bal_test_data.h"
+#include <swba/apps/bal.h>
 #include <swba/factors/snavely_reprojection.h>
 #include <swba/io/bal.h>
 #include <swba/problems/bal.h>
@@ -12,7 +13,11 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <algorithm>
+#include <cstdio>
+#include <fstream>
 #include <iostream>
+#include <sstream>
+#include <stdexcept>
 #include <vector>
 
 namespace
@@ -174,4 +179,42 @@ TEST(BalSolve, ShortSolveAgreesAcrossLinearSolversAndThreads)
 	// Evaluation and assembly are deterministic across thread counts.
 	EXPECT_EQ(costs[0], costs[1]);
 	EXPECT_EQ(costs[2], costs[3]);
+}
+
+// Every observation's point on its camera's plane (P.z = 0 in the camera frame): no factor can be
+// evaluated at the initial values. Nothing is fitted, so the solve fails (no CONVERGENCE at cost 0), and
+// `swba bal` says so after its report and writes no solution.
+TEST(BalSolve, EveryFactorDroppedAtTheInitialValuesIsAFailure)
+{
+	const std::string text = "1 1 1\n0 0 1 1\n0 0 0 0 0 -5 500 0 0\n0 0 5\n";
+	swba::io::BalProblem bal = swba::io::parse_bal(text, "allpz0.txt");
+	const swba::Summary s = solve_bal(bal, {});
+	EXPECT_EQ(s.termination, swba::TerminationType::Failure);
+	EXPECT_EQ(s.message, "every factor dropped at the initial values: nothing to fit");
+	EXPECT_EQ(s.num_dropped_factors, 1);
+	EXPECT_FALSE(s.is_solution_usable());
+
+	const std::string path = ::testing::TempDir() + "swba_bal_allpz0.txt";
+	const std::string solution = ::testing::TempDir() + "swba_bal_allpz0_solution.txt";
+	{
+		std::ofstream f(path);
+		f << text;
+	}
+	std::remove(solution.c_str());
+	swba::apps::BalAppOptions o;
+	o.problem_path = path;
+	o.write_problem = solution;
+	std::ostringstream out, log;
+	try
+	{
+		swba::apps::run_bal_app(o, out, log);
+		ADD_FAILURE() << "no exception";
+	}
+	catch (const std::runtime_error& e)
+	{
+		EXPECT_STREQ(e.what(), "optimisation failed: every factor dropped at the initial values: nothing to fit");
+	}
+	EXPECT_NE(out.str().find("Termination: FAILURE"), std::string::npos) << out.str();
+	EXPECT_FALSE(std::ifstream(solution).good()) << "a failed solve wrote its solution";
+	std::remove(path.c_str());
 }

@@ -155,3 +155,27 @@ TEST(SolverDomain, RejectedStepSaysWhy)
 	accepted.step_accepted = true;
 	EXPECT_EQ(format_iteration(accepted).find('('), std::string::npos);
 }
+
+TEST(SolverDomain, NoFactorEvaluableAtTheInitialValuesIsAFailureNotAFit)
+{
+	// B alone from x = 8: out of its domain there, so the cost is 0 over no factor and nothing has a
+	// gradient; the solve fails at once and leaves x where it was.
+	Problem problem;
+	const double x0 = 8.0;
+	const VariableId x = problem.add_variable(&x0, euclidean_manifold(1));
+	problem.add_factor(std::make_shared<LineFactor>(0.5, 4.0, 5.0), {x});
+	const Summary s = solve(problem);
+	EXPECT_EQ(s.termination, TerminationType::Failure);
+	EXPECT_EQ(s.message, "every factor dropped at the initial values: nothing to fit");
+	EXPECT_FALSE(s.is_solution_usable());
+	EXPECT_EQ(s.num_dropped_factors, 1);
+	EXPECT_EQ(s.num_unconstrained_variables, 1);
+	EXPECT_EQ(problem.value(x)[0], 8.0);
+	// One evaluable factor is enough: from x = 4.5 the same factor is fitted.
+	const double x1 = 4.5;
+	Problem fits;
+	const VariableId y = fits.add_variable(&x1, euclidean_manifold(1));
+	fits.add_factor(std::make_shared<LineFactor>(0.5, 4.0, 5.0), {y});
+	EXPECT_TRUE(solve(fits).is_solution_usable());
+	EXPECT_NEAR(fits.value(y)[0], 4.0, 1e-6);
+}

@@ -5,6 +5,9 @@
 
 #include <Eigen/Cholesky>
 
+#include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <sstream>
 
 namespace
@@ -277,5 +280,50 @@ TEST(G2oReader, RepairRefusesAnInformationWithoutPositiveEigenvalue)
 TEST(G2oReader, MissingFileIsAnError)
 {
 	EXPECT_THROW(swba::io::read_g2o("/nonexistent/graph.g2o"), std::runtime_error);
+}
+
+// A malformed field is quoted by its first 40 characters, never whole (a 1 MB token made a 1 MB message);
+// an unknown tag likewise in the skipped-lines warning.
+TEST(G2oReader, LongFieldsAndTagsAreQuotedShort)
+{
+	const std::string field = std::string(1000000, '1') + "x";
+	try
+	{
+		read_text("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 " + field + " 0 0\n");
+		ADD_FAILURE() << "accepted";
+	}
+	catch (const std::runtime_error& e)
+	{
+		const std::string msg = e.what();
+		EXPECT_EQ(msg, "test.g2o:2: VERTEX_SE2: field 2 ('" + std::string(40, '1') + "...') is not a finite number");
+	}
+	const auto g = read_text("VERTEX_SE2 0 0 0 0\n" + std::string(100000, 'T') + " 1 0 0\n");
+	EXPECT_EQ(g.skipped_summary(), "skipped 1 line(s) with unknown tag(s): " + std::string(40, 'T') + "... x1");
+}
+
+// A graph with a non-finite vertex value is never written (the reader would refuse it), to a file or a stream.
+TEST(G2oWriter, RefusesNonFiniteVertexValues)
+{
+	PoseGraph g = read_text("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n");
+	g.vertices2.at(1).y = std::nan("");
+	const std::string path = ::testing::TempDir() + "swba_g2o_non_finite.g2o";
+	std::remove(path.c_str());
+	try
+	{
+		swba::io::write_g2o(g, path);
+		ADD_FAILURE() << "written";
+	}
+	catch (const std::runtime_error& e)
+	{
+		const std::string msg = e.what();
+		EXPECT_NE(msg.find("g2o file '" + path + "' not written: vertex 1 (x y theta = 1 nan 0) is not finite"),
+				  std::string::npos)
+			<< msg;
+	}
+	EXPECT_FALSE(std::ifstream(path).good());
+	EXPECT_THROW(write_text(g), std::runtime_error);
+	g = read_text(kV0 + kV1);
+	g.vertices3.at(0).t.x() = HUGE_VAL;
+	EXPECT_THROW(write_text(g), std::runtime_error);
 }
 }  // namespace

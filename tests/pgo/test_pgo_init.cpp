@@ -9,6 +9,8 @@
 
 #include <cmath>
 #include <random>
+#include <sstream>
+#include <stdexcept>
 
 namespace
 {
@@ -384,6 +386,24 @@ TEST(PgoInit, EmptyGraphIsANoOp)
 	const auto s = initialize_pose_graph(g);
 	EXPECT_EQ(s.num_components, 0);
 	EXPECT_EQ(g.num_vertices(), 0u);
+}
+
+// An information of 1e308 (finite, positive definite) overflows the chordal normal equations: the
+// initial values would be NaN. An error naming the method and the vertex, never NaN handed on to LM.
+TEST(PgoInit, NonFiniteInitialValuesAreAnErrorNamingTheMethodAndTheVertex)
+{
+	std::istringstream in("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nEDGE_SE2 0 1 2 0 0 1e308 0 0 1e308 0 1e308\n");
+	PoseGraph g = read_g2o(in, "huge.g2o");
+	try
+	{
+		initialize_pose_graph(g);
+		ADD_FAILURE() << "no exception; vertex 1 = " << g.vertices2.at(1).x << " " << g.vertices2.at(1).y;
+	}
+	catch (const std::runtime_error& e)
+	{
+		const std::string msg = e.what();
+		EXPECT_EQ(msg.rfind("chordal initialisation gave a non-finite value to vertex 1 (x y theta = ", 0), 0u) << msg;
+	}
 }
 }  // namespace
 

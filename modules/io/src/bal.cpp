@@ -204,10 +204,15 @@ class Parser
 		if (from_token(t, v) != std::errc()) fail(line, std::string("expected an integer ") + what + ", found " + quoted(t));
 		return v;
 	}
+	/** The largest count the header may declare (cameras, points, observations each): 10^9. */
+	static constexpr long kMaxCount = 1000000000L;
 	int parse_count(std::string_view t, int line, const char* what) const
 	{
 		const long v = parse_integer(t, line, what);
-		if (v <= 0 || v > 1000000000L) fail(line, std::string(what) + " must be positive, found " + quoted(t));
+		if (v <= 0) fail(line, std::string(what) + " must be positive, found " + quoted(t));
+		if (v > kMaxCount)
+			fail(line, std::string(what) + " must be at most " + std::to_string(kMaxCount) + " (swba's limit), found " +
+						   quoted(t));
 		return static_cast<int>(v);
 	}
 	int parse_index(std::string_view t, int line, const char* what, int count) const

@@ -2,6 +2,7 @@
 
 #include <swba/core/file.h>
 #include <swba/core/memory_budget.h>
+#include <swba/io/rawlog.h>
 
 #include <mrpt/img/CImage.h>
 
@@ -113,6 +114,7 @@ IntensityImage load_intensity_image(const std::string& path)
 {
 	if (!file_exists(path)) throw std::runtime_error(path + ": image file not found");
 	const std::uint64_t size = file_size_or_zero(path), budget = image_memory_budget(size);
+	if (size == 0) throw std::runtime_error(path + ": cannot decode image (empty file)");
 	check_png(path, size, budget);
 	mrpt::img::CImage img;
 	bool ok = false;
@@ -128,7 +130,8 @@ IntensityImage load_intensity_image(const std::string& path)
 	}
 	catch (const std::exception& e)
 	{
-		throw std::runtime_error(path + ": cannot decode image (" + e.what() + ")");
+		// The decoder's reason in one line (an MRPT exception spans lines: banner, message, call stack).
+		throw std::runtime_error(path + ": cannot decode image (" + mrpt_exception_summary(e.what(), true) + ")");
 	}
 	if (!ok || img.getWidth() == 0 || img.getHeight() == 0)
 		throw std::runtime_error(path + ": cannot decode image");

@@ -26,6 +26,13 @@ constexpr const char* kFix = "FIX";
 
 using Tokens = std::vector<std::string>;
 
+/** A field or tag as error messages quote it: '<text>', cut to its first 40 characters ("...") so that a
+ * 20 MB token does not become a 20 MB message. */
+std::string g2o_quoted(const std::string& t)
+{
+	return "'" + (t.size() > 40 ? t.substr(0, 40) + "..." : t) + "'";
+}
+
 /** Parsing context of one line: error messages carry "<source>:<line>: <tag>: ". */
 struct LineContext
 {
@@ -44,7 +51,8 @@ struct LineContext
 				 std::to_string(tok.size() - 1));
 	}
 	/** Field i read whole by `read` (std::strtod or std::strtoll's signature), in range and finite (as
-	 * a double: always, for an integer); otherwise fails "field i ('text') is not <what>". */
+	 * a double: always, for an integer); otherwise fails "field i ('text') is not <what>" (the text cut to
+	 * 40 characters). */
 	template <class Read>
 	auto whole_field(const Tokens& tok, size_t i, Read read, const char* what) const
 	{
@@ -53,7 +61,7 @@ struct LineContext
 		errno = 0;
 		const auto v = read(s, &end);
 		if (end == s || *end != '\0' || errno == ERANGE || !std::isfinite(static_cast<double>(v)))
-			fail("field " + std::to_string(i) + " ('" + tok[i] + "') is not " + what);
+			fail("field " + std::to_string(i) + " (" + g2o_quoted(tok[i]) + ") is not " + what);
 		return v;
 	}
 	double number(const Tokens& tok, size_t i) const
@@ -275,9 +283,29 @@ std::string PoseGraph::skipped_summary() const
 	for (const auto& [tag, n] : skipped_tags)
 	{
 		total += n;
-		list += (list.empty() ? "" : ", ") + tag + " x" + std::to_string(n);
+		list += (list.empty() ? "" : ", ") + (tag.size() > 40 ? tag.substr(0, 40) + "..." : tag) + " x" + std::to_string(n);
 	}
 	return "skipped " + std::to_string(total) + " line(s) with unknown tag(s): " + list;
+}
+
+std::string PoseGraph::first_non_finite_vertex() const
+{
+	char buf[200];
+	for (const auto& [id, v] : vertices2)
+		if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.theta))
+		{
+			std::snprintf(buf, sizeof buf, "vertex %lld (x y theta = %g %g %g)", static_cast<long long>(id), v.x, v.y,
+						  v.theta);
+			return buf;
+		}
+	for (const auto& [id, v] : vertices3)
+		if (!v.t.allFinite() || !v.q.coeffs().allFinite())
+		{
+			std::snprintf(buf, sizeof buf, "vertex %lld (x y z = %g %g %g, qx qy qz qw = %g %g %g %g)",
+						  static_cast<long long>(id), v.t.x(), v.t.y(), v.t.z(), v.q.x(), v.q.y(), v.q.z(), v.q.w());
+			return buf;
+		}
+	return "";
 }
 
 std::string InformationRepairs::summary(size_t num_edges, double relative_floor) const
@@ -319,11 +347,16 @@ PoseGraph read_g2o(std::istream& in, const std::string& source_name, const G2oRe
 
 void write_g2o(const PoseGraph& g, const std::string& path)
 {
+	if (const std::string bad = g.first_non_finite_vertex(); !bad.empty())
+		throw std::runtime_error("g2o file '" + path + "' not written: " + bad + " is not finite");
 	write_file_atomically(path, [&](std::ostream& out) { write_g2o(g, out); });
 }
 
 void write_g2o(const PoseGraph& g, std::ostream& out)
 {
+	// Never a graph that would not read back: the reader refuses non-finite values.
+	if (const std::string bad = g.first_non_finite_vertex(); !bad.empty())
+		throw std::runtime_error("write_g2o: " + bad + " is not finite");
 	for (const auto& [id, v] : g.vertices3)
 	{
 		out << kVertex3 << ' ' << id;

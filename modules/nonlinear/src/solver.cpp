@@ -93,6 +93,8 @@ void LevenbergMarquardt::run()
 {
 	if (!start())
 	{
+		summary_.num_dropped_factors = dropped_;
+		summary_.num_unconstrained_variables = ctx_.evaluator().count_unconstrained();
 		summary_.time_total_s = seconds_since(t_start_);
 		return;
 	}
@@ -129,7 +131,8 @@ void LevenbergMarquardt::assemble()
 }
 
 /** Iteration 0 at the initial values and the criteria already met there; false (Failure) when the
- * initial cost is not finite. */
+ * initial cost is not finite, or when no factor is evaluable there (a cost of 0 over no factor is no fit:
+ * with every factor out of its domain, no variable has a gradient or a step). */
 bool LevenbergMarquardt::start()
 {
 	cost_ = evaluate_with_jacobians();
@@ -138,6 +141,11 @@ bool LevenbergMarquardt::start()
 	if (!std::isfinite(cost_))
 	{
 		finish(TerminationType::Failure, "initial cost is not finite");
+		return false;
+	}
+	if (dropped_ > 0 && dropped_ == ctx_.program().num_factors())
+	{
+		finish(TerminationType::Failure, "every factor dropped at the initial values: nothing to fit");
 		return false;
 	}
 	assemble();

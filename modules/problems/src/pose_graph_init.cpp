@@ -436,6 +436,9 @@ PoseGraphInitSummary initialize_pose_graph(PoseGraph& g, const PoseGraphInitOpti
 	}
 	else if (o.method == PoseGraphInit::Chordal)
 		chordal(g, gi, anchored, o);
+	if (const std::string bad = g.first_non_finite_vertex(); !bad.empty())
+		throw std::runtime_error(to_string(o.method) + " initialisation gave a non-finite value to " + bad +
+								 ": the edge measurements or information matrices overflow its computation");
 	s.time_s = seconds_since(t0);
 	return s;
 }

@@ -56,6 +56,8 @@ BalAppResult run_bal_app(const BalAppOptions& options, std::ostream& out, std::o
 
 	result.summary = solve(problem, options.solver);
 	out << result.summary.full_report();
+	out.flush();
+	if (!result.summary.is_solution_usable()) throw std::runtime_error("optimisation failed: " + result.summary.message);
 	problems::copy_values_to_bal(problem, vars, bal);
 	out << "Observations behind their camera at the solution: " << problems::count_observations_behind_camera(bal)
 		<< "\n";

@@ -163,14 +163,19 @@ DirectBAStats direct_ba_stats(const io::DirectBADataset& data, const std::vector
 	return st;
 }
 
+DirectBAFixedCamerasError::DirectBAFixedCamerasError(int fixed, int cameras)
+	: std::invalid_argument("fixed_cameras = " + std::to_string(fixed) + ", but the data set has " +
+							std::to_string(cameras) + " cameras"),
+	  fixed_cameras(fixed), num_cameras(cameras)
+{
+}
+
 DirectBAResult run_direct_ba(const io::DirectBADataset& data, const DirectBAOptions& options)
 {
 	validate_with_prefix(options, "directba: ");
 	check_data(data);
 	const int n = static_cast<int>(data.world_from_camera.size());
-	if (options.fixed_cameras > n)
-		throw std::invalid_argument("fixed_cameras = " + std::to_string(options.fixed_cameras) +
-									", but the data set has " + std::to_string(n) + " cameras");
+	if (options.fixed_cameras > n) throw DirectBAFixedCamerasError(options.fixed_cameras, n);
 
 	DirectBAResult res;
 	std::vector<Eigen::Vector3d> initial_points;

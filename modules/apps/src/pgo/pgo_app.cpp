@@ -57,6 +57,9 @@ PgoAppResult run_pgo_app(const PgoAppOptions& options, std::ostream& out, std::o
 	const io::G2oReadOptions& read = options.read;
 	io::PoseGraph graph = io::read_g2o(options.input_path, read);
 	if (const auto skipped = graph.skipped_summary(); !skipped.empty()) log << "swba pgo: warning: " << skipped << "\n";
+	if (graph.num_vertices() == 0)
+		throw std::runtime_error("g2o file '" + options.input_path +
+								 "': no vertices (no VERTEX_SE3:QUAT or VERTEX_SE2 line): nothing to optimise");
 	PgoAppResult result;
 	const bool repair = read.information == io::InformationPolicy::Repair;
 	result.repaired_information = graph.repaired_information.count;
@@ -80,6 +83,9 @@ PgoAppResult run_pgo_app(const PgoAppOptions& options, std::ostream& out, std::o
 	if (options.loss != RobustLoss::None || pp.has_prior)
 		out << "Edge cost without loss/prior: " << problems::pose_graph_cost(graph, options.rotation_error) << "\n";
 	if (!result.summary.is_solution_usable()) throw std::runtime_error("optimisation failed: " + result.summary.message);
+	// A variable whose every factor left its domain keeps the value the step gave it: never a success.
+	if (const std::string bad = graph.first_non_finite_vertex(); !bad.empty())
+		throw std::runtime_error("optimisation failed: " + bad + " is not finite at the solution");
 	if (!options.output_path.empty())
 	{
 		io::write_g2o(graph, options.output_path);

@@ -38,7 +38,8 @@ struct BalAppResult
 
 /** Reads, solves (printing the per-iteration table if options.solver.progress_to_stdout, then the
  * full report) and writes the requested outputs. Report lines go to `out`, the "Wrote <file>" lines to `log`. Throws
- * std::invalid_argument on invalid options, std::runtime_error on unreadable input or unwritable
- * output. */
+ * std::invalid_argument on invalid options, std::runtime_error on unreadable input, unwritable
+ * output or a failed optimisation ("optimisation failed: <the solver's message>", after the report;
+ * then no solution is written). */
 BalAppResult run_bal_app(const BalAppOptions& options, std::ostream& out, std::ostream& log);
 }  // namespace swba::apps

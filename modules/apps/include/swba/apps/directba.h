@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <iosfwd>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -64,8 +65,17 @@ struct DirectBAResult
 	std::vector<Eigen::Vector3d> points;      ///< optimised points
 };
 
+/** Thrown by run_direct_ba when options.fixed_cameras exceeds the data set's number of cameras: valid
+ * options that do not fit this input (`swba directba` reports a bad --fixed-cameras). */
+struct DirectBAFixedCamerasError : std::invalid_argument
+{
+	DirectBAFixedCamerasError(int fixed_cameras, int num_cameras);
+	int fixed_cameras;  ///< requested
+	int num_cameras;    ///< in the data set
+};
+
 /** Builds and solves the problem. Throws std::invalid_argument on invalid options or a data set
- * whose images do not match its poses. */
+ * whose images do not match its poses (DirectBAFixedCamerasError: more fixed cameras than it has). */
 DirectBAResult run_direct_ba(const io::DirectBADataset& data, const DirectBAOptions& options);
 
 /** Statistics of the photometric factors at the given values (used before/after the solve). */

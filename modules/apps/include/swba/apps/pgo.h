@@ -67,7 +67,9 @@ Summary solve_pgo(problems::PoseGraphProblem& problem, io::PoseGraph& graph, con
 /** The whole `swba pgo`: reads options.input_path, runs the three stages, prints the report to `out`
  * (warnings about skipped lines and, with InformationPolicy::Repair, the line "repaired N of M edge
  * information matrices (…)" to `log`) and writes options.output_path. Throws
- * std::invalid_argument on invalid options, std::runtime_error on unreadable input, unwritable output
- * or a failed optimisation (after the report). */
+ * std::invalid_argument on invalid options, std::runtime_error on unreadable input (a graph without
+ * vertices included), initial values that are not finite (initialize_pose_graph), unwritable output or a
+ * failed optimisation (after the report: a solver failure, or a vertex not finite at the solution; then
+ * nothing is written). */
 PgoAppResult run_pgo_app(const PgoAppOptions& options, std::ostream& out, std::ostream& log);
 }  // namespace swba::apps

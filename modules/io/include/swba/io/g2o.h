@@ -64,8 +64,8 @@ struct InformationRepairs
 	double min_eigenvalue = 0;         ///< the most negative eigenvalue among them (0 if none)
 	int min_eigenvalue_line = 0;       ///< its source line
 	std::vector<int> lines;            ///< source line of every repaired edge, in file order
-	/** "repaired N of M edge information matrices (not positive definite; eigenvalues below 1e-06 × the
-	 * largest clipped to it; most negative eigenvalue -1.6e+05 at line L)"; M = `num_edges`. */
+	/** "repaired N of M edge information matrices (not positive definite; eigenvalues below 1e-06 x the
+	 * largest raised to it; most negative eigenvalue -1.6e+05 at line L)"; M = `num_edges`. */
 	std::string summary(size_t num_edges, double relative_floor) const;
 };
 
@@ -108,8 +108,12 @@ struct PoseGraph
 	bool is_2d() const { return !vertices2.empty() || !edges2.empty(); }
 	size_t num_vertices() const { return vertices3.size() + vertices2.size(); }
 	size_t num_edges() const { return edges3.size() + edges2.size(); }
-	/** "skipped 3 lines with unknown tag(s): PARAMS_SE3OFFSET ×1, EDGE_SE3_PRIOR ×2", or "". */
+	/** "skipped 3 line(s) with unknown tag(s): PARAMS_SE3OFFSET x1, EDGE_SE3_PRIOR x2" (a tag cut to 40
+	 * characters), or "". */
 	std::string skipped_summary() const;
+	/** The first vertex (2D, then 3D; id order) with a non-finite value, "vertex 1 (x y theta = 1 nan 0)", or
+	 * "" when every value is finite. */
+	std::string first_non_finite_vertex() const;
 };
 
 /** Reads a g2o file; throws std::runtime_error("<path>:<line>: <reason>") on malformed input
@@ -119,7 +123,9 @@ PoseGraph read_g2o(const std::string& path, const G2oReadOptions& options = {});
 PoseGraph read_g2o(std::istream& in, const std::string& source_name = "<stream>", const G2oReadOptions& options = {});
 
 /** Writes vertices (in id order), edges (in stored order) and FIX lines with %.17g, so that a
- * read → write → read round trip reproduces every number to the last bit of the normalised values. */
+ * read → write → read round trip reproduces every number to the last bit of the normalised values.
+ * Throws std::runtime_error naming the first non-finite vertex (and the path) before writing anything:
+ * the reader refuses such a file. */
 void write_g2o(const PoseGraph& graph, const std::string& path);
 void write_g2o(const PoseGraph& graph, std::ostream& out);
 }  // namespace swba::io

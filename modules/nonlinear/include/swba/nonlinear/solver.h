@@ -110,7 +110,9 @@ enum class TerminationType
 	NotRun,
 	Convergence,     ///< function, gradient or parameter tolerance reached
 	NoConvergence,   ///< max_iterations reached
-	Failure,         ///< numerical failure (non-finite cost, factorization failed repeatedly)
+	/** numerical failure (non-finite cost, factorization failed repeatedly), or no factor evaluable at the
+	 * initial values (every one dropped: nothing to fit) */
+	Failure,
 	UserCost         ///< stop_at_cost reached
 };
 /** Ceres's names: "CONVERGENCE", "NO_CONVERGENCE", "FAILURE", "USER_COST", "NOT_RUN". */

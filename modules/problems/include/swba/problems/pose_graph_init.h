@@ -66,6 +66,8 @@ struct PoseGraphInitSummary
 };
 
 /** Overwrites the non-anchor vertex values of `graph` with the chosen initial values.
- * Throws std::runtime_error if a linear system cannot be factorised (degenerate information). */
+ * Throws std::runtime_error if a linear system cannot be factorised (degenerate information), or naming
+ * the first vertex the method gave a non-finite value (information matrices so large that its
+ * computation overflows). */
 PoseGraphInitSummary initialize_pose_graph(io::PoseGraph& graph, const PoseGraphInitOptions& options = {});
 }  // namespace swba::problems
