@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <ctime>
 #include <iostream>
 #include <stdexcept>
@@ -68,15 +69,19 @@ struct RunCommandLine
 	TCLAP::UnlabeledValueArg<std::string> rawlog{
 		"RAWLOG", "MRPT rawlog with odometry and bearing-range observations (Default: kf-slam_6D_demo.rawlog of mrpt-common)",
 		false, "", "RAWLOG", cmd};
-	OverrideArg<std::string> gt{"gt", "FILE", "<rawlog name>_ground_truth_robot_path.txt next to the rawlog, if present",
-		"MRPT ground-truth robot path (x y z yaw pitch roll per row, row i = pose at SF_i)", cmd};
+	OverrideArg<std::string> gt{"gt", "FILE",
+		"<rawlog name>_ground_truth_robot_path.txt next to the rawlog (inertial: <rawlog name>_ground_truth.tum), if "
+		"present",
+		"ground truth: MRPT's robot path (x y z yaw pitch roll per row) or a TUM trajectory, row i = pose at SF_i; "
+		"inertial rawlog: a TUM trajectory, paired by time stamp",
+		cmd};
 	OverrideArg<std::string> association_truth{
 		"association-truth", "RAWLOG", "the simulator's landmark file next to the rawlog, if present",
 		"rawlog with the same readings and their landmark IDs: the truth the association of a rawlog without IDs is "
 		"measured against", cmd};
 	TCLAP::ValueArg<std::string> config{"", "config",
-		"INI file with options (sections [run] [window] [solver] [ekf] [sensor] [odometry]; see " + share_dir() +
-			"/config/swba_run.ini); unknown keys are errors",
+		"INI file with options (sections [run] [window] [solver] [ekf] [sensor] [odometry] [sensors] [inertial] "
+		"[imu]; see " + share_dir() + "/config/swba_run.ini); unknown keys and keys given twice are errors",
 		false, "", "INI", cmd};
 	OverrideArg<std::string> windows{"windows", "LIST", "5,10,20,30", "window sizes W, comma-separated, each >= 2", cmd};
 	OverrideArg<int> relinearized{"relinearized-poses", "K", "2",
@@ -159,7 +164,7 @@ struct RunCommandLine
 		if (verbose.isSet()) o.verbose = true;
 	}
 
-	/** The gate and the robust loss (checked by SlidingWindowOptions::validate, which names the option). */
+	/** The gate and the robust loss; a probability outside (0, 1) is a usage error naming its flag. */
 	void apply_outliers(estimators::SlidingWindowOptions& w)
 	{
 		if (gate.isSet())
@@ -167,9 +172,19 @@ struct RunCommandLine
 			if (gate.getValue() != "on" && gate.getValue() != "off") throw UsageError("--gate must be on or off");
 			w.gate_readings = gate.getValue() == "on";
 		}
-		if (gate_probability.isSet()) w.gate_probability = gate_probability.getValue();
+		auto probability = [](TCLAP::ValueArg<double>& a, double& dst) {
+			if (!a.isSet()) return;
+			if (!(a.getValue() > 0 && a.getValue() < 1))
+			{
+				char got[32];
+				std::snprintf(got, sizeof got, "%g", a.getValue());
+				throw UsageError("--" + a.getName() + " must be in (0, 1), got " + got);
+			}
+			dst = a.getValue();
+		};
+		probability(gate_probability, w.gate_probability);
 		if (robust_loss.isSet()) w.robust_loss = parse_enum<RobustLoss>(robust_loss.getValue(), "robust loss");
-		if (robust_probability.isSet()) w.robust_probability = robust_probability.getValue();
+		probability(robust_probability, w.robust_probability);
 	}
 
 	/** Sensor noise: degrees on the command line, radians inside. */

@@ -165,6 +165,9 @@ TEST(RunConfig, BadValuesNameTheKey)
 			 {"[inertial]\nkeyframes = every\n", "[inertial] keyframes: unknown keyframe times 'every'"},
 			 {"[inertial]\nreintegrate_gyro = 0\n", "[inertial] reintegrate_gyro: '0' must be > 0"},
 			 {"# sizes\n[window]\nsizes 10\n", ":3: 'sizes 10' is neither a [section], a key = value line nor a comment"},
+			 // MRPT would keep the last of the two (names compare case-insensitively, sections may repeat).
+			 {"[window]\nsizes = 5\n[solver]\nthreads = 1\n[Window]\nSizes = 10\n",
+			  ":6: [Window] Sizes is given twice (first on line 2)"},
 		 })
 	{
 		const std::string msg = load_error(c.ini);

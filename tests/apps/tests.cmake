@@ -50,6 +50,16 @@ swba_run_case(help 0 REGEX "--windows.*--no-ekf.*--no-batch.*--causal.*--ekf-met
 # Bad input: one line naming the file/option; exit 2 for a bad command line, 1 for a bad input file.
 swba_run_case(window_1 2 REGEX "swba run: error: --windows: window size must be in \\[2, 1000000\\], got 1 \\(see --help\\)\n"
   ARGS --windows 5,1 --max-steps 10 --out ${_out}/window_1)
+swba_run_case(window_overflow 2
+  REGEX "swba run: error: --windows: window size must be in \\[2, 1000000\\], got 99999999999999999999 \\(see --help\\)\n"
+  ARGS --windows 99999999999999999999 --out ${_out}/window_overflow)
+swba_run_case(gate_probability_one 2 REGEX "swba run: error: --gate-probability must be in \\(0, 1\\), got 1 \\(see --help\\)\n"
+  ARGS --gate-probability 1 --out ${_out}/gate_probability_one)
+swba_run_case(robust_probability_zero 2 REGEX "swba run: error: --robust-probability must be in \\(0, 1\\), got 0 \\(see --help\\)\n"
+  ARGS --robust-probability 0 --out ${_out}/robust_probability_zero)
+# An output directory given with a trailing slash is printed with one.
+swba_run_case(out_dir_trailing_slash 0 REGEX "swba run: wrote [0-9]+ files into [^\n]*/out_dir_trailing_slash/\n" NOT_REGEX "//\n"
+  ARGS ${_demo} --max-steps 10 --windows 5 --no-ekf --no-batch --no-plots --out ${_out}/out_dir_trailing_slash/)
 swba_run_case(missing_rawlog 1 REGEX "swba run: error: rawlog '/nonexistent/none.rawlog': file does not exist"
   ARGS /nonexistent/none.rawlog --out ${_out}/missing_rawlog)
 swba_run_case(gt_5_columns 1 REGEX "swba run: error: [^\n]*gt_5_columns.txt[^\n]*4[^\n]*6"

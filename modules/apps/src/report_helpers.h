@@ -41,4 +41,10 @@ inline std::string fixed(double v, int decimals)
 /** `s` padded with spaces to width `w`, on the right / on the left (table columns). */
 inline std::string pad_right(const std::string& s, std::size_t w) { return s.size() >= w ? s : s + std::string(w - s.size(), ' '); }
 inline std::string pad_left(const std::string& s, std::size_t w) { return s.size() >= w ? s : std::string(w - s.size(), ' ') + s; }
+/** "<program>: wrote N file(s) into DIR/" (one slash after DIR, however many it was given with). */
+inline void print_wrote_files(std::ostream& log, const std::string& program, std::size_t n, std::string dir)
+{
+	while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+	log << program << ": wrote " << n << (n == 1 ? " file" : " files") << " into " << dir << (dir == "/" ? "" : "/") << "\n";
+}
 }  // namespace swba::apps::detail

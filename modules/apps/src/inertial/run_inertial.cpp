@@ -1,5 +1,6 @@
 #include <swba/apps/inertial_run.h>
 
+#include "../report_helpers.h"
 #include "../run/output_dir.h"
 #include "../run/plots.h"
 #include "../run/rows.h"
@@ -485,7 +486,7 @@ RunReport run_inertial_app(const RunOptions& o, std::ostream& out, std::ostream&
 	write_run_manifest(o.out_dir, rep.files);
 	out << table << std::flush;
 	for (const auto& n : rep.notes) log << "note: " << n << "\n";
-	log << "swba run: wrote " << rep.files.size() << " files into " << o.out_dir << "/\n";
+	detail::print_wrote_files(log, "swba run", rep.files.size(), o.out_dir);
 	return rep;
 }
 }  // namespace swba::apps

@@ -7,6 +7,8 @@
 #include <mrpt/system/filesystem.h>
 
 #include <algorithm>
+#include <cctype>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -118,7 +120,9 @@ IniKeys<RunOptions> ekf_keys()
 {
 	return {
 		ini::bool_key<O>("ekf", "enabled", "run MRPT's EKF (CRangeBearingKFSLAM) with each method", &O::run_ekf),
-		{"ekf", "methods", "names", "comma-separated: kfEKFNaive, kfEKFAlaDavison, kfIKFFull, kfIKF",
+		{"ekf", "methods", "names",
+		 "comma-separated: kfEKFNaive, kfEKFAlaDavison, kfIKFFull (MRPT's kfIKF is refused: it throws at its first "
+		 "update)",
 		 [](const S& v, O& o) { o.ekf_methods = parse_ekf_method_list(v); },
 		 [](const O& o) { return join(o.ekf_methods, ","); }},
 		{"ekf", "ini_file", "path",
@@ -248,21 +252,33 @@ void load_run_config(const std::string& path, RunOptions& options)
 
 namespace
 {
-/** MRPT's parser skips a line it cannot read; here such a line is an error (a key without '=' would be an
- * option silently left at its default). */
+/** MRPT's parser skips a line it cannot read, and of a key given twice in a section keeps the last; here
+ * either is an error (an option silently left at its default, or set by a line the user may not see). */
 void check_config_lines(const std::string& text, const std::string& source)
 {
 	std::istringstream in(text);
 	std::size_t n = 0;
+	std::string section;
+	std::map<std::pair<std::string, std::string>, std::size_t> first_line;  // (section, key) -> line
 	for (std::string line; std::getline(in, line);)
 	{
 		n++;
 		const std::string t = trim(line);
 		if (t.empty() || t[0] == '#' || t[0] == ';' || t.rfind("//", 0) == 0) continue;
-		if (t.front() == '[' && t.back() == ']') continue;
-		if (t.find('=') == std::string::npos)
-			throw std::runtime_error("config '" + source + "':" + std::to_string(n) + ": '" + t +
-									 "' is neither a [section], a key = value line nor a comment");
+		const std::string at = "config '" + source + "':" + std::to_string(n) + ": ";
+		if (t.front() == '[' && t.back() == ']')
+		{
+			section = trim(t.substr(1, t.size() - 2));
+			continue;
+		}
+		const auto eq = t.find('=');
+		if (eq == std::string::npos)
+			throw std::runtime_error(at + "'" + t + "' is neither a [section], a key = value line nor a comment");
+		const std::string key = trim(t.substr(0, eq));
+		const auto [it, fresh] = first_line.emplace(std::make_pair(lower(section), lower(key)), n);
+		if (!fresh)
+			throw std::runtime_error(at + "[" + section + "] " + key + " is given twice (first on line " +
+									 std::to_string(it->second) + ")");
 	}
 }
 }  // namespace
@@ -297,6 +313,10 @@ std::vector<int> parse_window_list(const std::string& text, const std::string& w
 	std::vector<int> w;
 	for (const auto& item : split_list(text, what.empty() ? "window sizes" : what))
 	{
+		const auto out_of_range = [&] {
+			return std::invalid_argument(at + "window size must be in [2, " + std::to_string(kMaxWindowSize) +
+										 "], got " + item);
+		};
 		long long v = 0;
 		try
 		{
@@ -304,11 +324,12 @@ std::vector<int> parse_window_list(const std::string& text, const std::string& w
 		}
 		catch (const std::exception&)
 		{
+			// Digits that overflow a long long are an integer out of range, not a non-integer.
+			const std::size_t d = (item[0] == '-' || item[0] == '+') ? 1 : 0;
+			if (item.size() > d && item.find_first_not_of("0123456789", d) == std::string::npos) throw out_of_range();
 			throw std::invalid_argument(at + "'" + item + "' is not an integer window size");
 		}
-		if (v < 2 || v > kMaxWindowSize)
-			throw std::invalid_argument(at + "window size must be in [2, " + std::to_string(kMaxWindowSize) +
-										"], got " + item);
+		if (v < 2 || v > kMaxWindowSize) throw out_of_range();
 		if (std::find(w.begin(), w.end(), static_cast<int>(v)) == w.end()) w.push_back(static_cast<int>(v));
 	}
 	return w;

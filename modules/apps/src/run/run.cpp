@@ -1,4 +1,5 @@
 // swba run: read the rawlog and ground truth, run every estimator asked for, report.
+#include "../report_helpers.h"
 #include "divergence.h"
 #include "output_dir.h"
 #include "rows.h"
@@ -456,7 +457,7 @@ RunReport run_app(const RunOptions& given, std::ostream& out, std::ostream& log,
 	write_run_outputs(options, gt, report);
 	out << format_comparison_table(report) << std::flush;
 	for (const auto& note : report.notes) log << "note: " << note << "\n";
-	log << "swba run: wrote " << report.files.size() << " files into " << options.out_dir << "/\n";
+	detail::print_wrote_files(log, "swba run", report.files.size(), options.out_dir);
 	return report;
 }
 }  // namespace swba::apps

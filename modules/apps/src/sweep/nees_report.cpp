@@ -189,7 +189,7 @@ NeesReport merge_nees_sweep(const SweepPlan& plan, const MergeOptions& options, 
 	const std::string dir = options.out_dir.empty() ? plan.dir + "/nees" : options.out_dir;
 	const std::string table = write_nees_files(dir, options, report, log);
 	out << table << std::flush;
-	log << options.program << ": wrote " << report.files.size() << " files into " << dir << "/\n";
+	detail::print_wrote_files(log, options.program, report.files.size(), dir);
 	return report;
 }
 
