@@ -2,7 +2,7 @@
 # swba jobs on inertial (observation-format) rawlogs (doc/sweeps.md): one job per rawlog runs every
 # window; swba merge copies its report, which equals one sequential swba run's (ape.txt but for the
 # ms/step column, every TUM file byte for byte), and tabulates the rows across the rawlogs. A job
-# that has not run is named.
+# that has not run, or was interrupted, is named.
 #   sweep_inertial.sh SWBA OUT_DIR
 set -euo pipefail
 swba=$1 out=$2
@@ -25,6 +25,16 @@ if "$swba" merge "$out/sweep" >/dev/null 2>"$out/missing.err"; then fail "merge 
 grep -q "job 1 (jobs/imu1/all): no summary.json" "$out/missing.err" || fail "merge does not name job 1: $(cat "$out/missing.err")"
 sed -n 1p "$out/sweep/jobs.txt" | bash >/dev/null 2>&1 || fail "job 1 failed"
 "$swba" merge "$out/sweep" >"$out/merged.txt" 2>"$out/merge.err" || fail "merge failed: $(cat "$out/merge.err")"
+
+# A job stopped by a signal between its estimators (a row marked interrupted) is not complete.
+s2=$out/sweep/jobs/imu2/all/summary.json
+cp "$s2" "$out/summary2.json"
+sed -i '0,/"interrupted": false/s//"interrupted": true/' "$s2"
+if "$swba" merge "$out/sweep" --out "$out/merged_interrupted" >/dev/null 2>"$out/interrupted.err"; then
+	fail "merge with an interrupted job succeeded"
+fi
+grep -q "job 2 (jobs/imu2/all): interrupted" "$out/interrupted.err" || fail "merge does not name job 2: $(cat "$out/interrupted.err")"
+cp "$out/summary2.json" "$s2"
 
 "$swba" run "$out/logs/imu1.rawlog" --config "$out/sweep/config.ini" --out "$out/seq" >/dev/null 2>&1
 untimed() { awk '{ print substr($0, 1, length($0) - 12) }' "$1"; }  # the last column is ms/step

@@ -431,7 +431,7 @@ swba_cli_case(monoba_fix_zero 2 REGEX "^swba monoba: error: --fix 0 is out of ra
 # that a failed solve writes no solution).
 file(WRITE ${_solver_inputs}/bal_huge_focal.txt "1 2 2\n0 0 1 1\n0 1 2 2\n0 0 0 0 0 -5 1e300 0 0\n0.1 0 0\n0 0.1 0\n")
 swba_cli_case(bal_solver_failure_has_error_line 1
-  REGEX "Termination: FAILURE \\(initial cost is not finite\\)\n.*swba bal: error: optimisation failed: initial cost is not finite\n$"
+  REGEX "Change: +- \\(a cost is not finite\\)\n.*Termination: FAILURE \\(initial cost is not finite\\)\n.*swba bal: error: optimisation failed: initial cost is not finite\n$"
   ARGS bal ${_solver_inputs}/bal_huge_focal.txt -q)
 # Every point on its camera's plane, every patch outside its image: no factor evaluable, nothing fitted.
 file(WRITE ${_solver_inputs}/bal_points_on_camera_plane.txt "1 1 1\n0 0 1 1\n0 0 0 0 0 -5 500 0 0\n0 0 5\n")

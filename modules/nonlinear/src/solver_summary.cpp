@@ -1,5 +1,6 @@
 #include <swba/nonlinear/solver.h>
 
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <string>
@@ -86,8 +87,14 @@ std::string Summary::full_report() const
 	std::snprintf(buf, sizeof(buf), "%-30s %s (reduced dimension %d)\n", "Linear solver",
 				  to_string(linear_solver_used).c_str(), reduced_dim);
 	os << buf;
-	std::snprintf(buf, sizeof(buf), "\n%-30s %.12e\n%-30s %.12e\n%-30s %.12e\n", "Initial cost:", initial_cost,
-				  "Final cost:", final_cost, "Change:", initial_cost - final_cost);
+	std::snprintf(buf, sizeof(buf), "\n%-30s %.12e\n%-30s %.12e\n", "Initial cost:", initial_cost, "Final cost:",
+				  final_cost);
+	os << buf;
+	// inf - inf would print nan: no change is defined when a cost is not finite.
+	if (std::isfinite(initial_cost) && std::isfinite(final_cost))
+		std::snprintf(buf, sizeof(buf), "%-30s %.12e\n", "Change:", initial_cost - final_cost);
+	else
+		std::snprintf(buf, sizeof(buf), "%-30s - (a cost is not finite)\n", "Change:");
 	os << buf;
 	std::snprintf(buf, sizeof(buf), "\n%-30s %d (%d successful, %d unsuccessful)\n", "Iterations:", iterations,
 				  successful_steps, unsuccessful_steps);

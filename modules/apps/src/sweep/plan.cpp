@@ -403,14 +403,18 @@ std::size_t expected_rows(const RunOptions& o, const SweepJob& job)
 }
 
 /** Why the summary `j` (parsed, or discarded when not JSON) of a job is not complete ("" when it is).
- * An inertial job's: swba run writes it once, after every row. A range-bearing job's: `expected`
- * estimator rows, none interrupted. */
+ * An inertial job's: swba run writes it once, after every row; none interrupted (a stop request between
+ * estimators). A range-bearing job's: `expected` estimator rows, none interrupted. */
 std::string summary_problem(const ordered_json& j, bool inertial, std::size_t expected)
 {
 	if (inertial)
-		return j.is_discarded() || j.value("kind", "") != "inertial" || !j.contains("rows") || !j["rows"].is_array()
-				   ? "summary.json is not a swba run summary of an inertial rawlog"
-				   : "";
+	{
+		if (j.is_discarded() || j.value("kind", "") != "inertial" || !j.contains("rows") || !j["rows"].is_array())
+			return "summary.json is not a swba run summary of an inertial rawlog";
+		for (const auto& e : j["rows"])
+			if (e.value("interrupted", false)) return "interrupted";
+		return "";
+	}
 	if (j.is_discarded() || !j.contains("estimators") || !j["estimators"].is_array())
 		return "summary.json is not a swba run summary";
 	for (const auto& e : j["estimators"])
