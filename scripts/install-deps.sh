@@ -4,6 +4,7 @@ set -euo pipefail
 pkgs=(cmake g++ make libeigen3-dev libsuitesparse-dev libgtest-dev
 	libboost-math-dev  # header-only: Boost.Math's chi-square distribution (gates, loss scales)
 	nlohmann-json3-dev # header-only: JSON reports (summary.json, <m>_stats.json, <m>_result.json)
+	zlib1g-dev       # gzip member scan of the rawlog readers (truncated files, trailing bytes)
 	libmrpt-slam-dev libmrpt-tclap-dev mrpt-common
 	libmrpt-graphslam-dev  # optional: MRPT graph-SLAM peer of the pose-graph benchmark
 	libceres-dev     # optional: benchmark peer only

@@ -1,5 +1,7 @@
 // Reading observation-format rawlogs (swba/io/observation_rawlog.h): objects are collected per role
 // with their MRPT timestamps, then converted to the IMU frame with times from the earliest observation.
+#include "gzip_scan.h"
+
 #include <swba/core/file.h>
 #include <swba/io/observation_rawlog.h>
 #include <swba/io/rawlog.h>
@@ -53,11 +55,13 @@ class ObservationReader
 	void take_pose(const CObservationRobotPose& o);
 	void check_role_labels(const std::vector<std::string>& role, const std::string& key,
 						   const std::string& class_name) const;
+	void check_gzip_end(std::uint64_t read_bytes);
 	void convert();
 	PoseReading to_imu_frame(const RawPose& p, const CPose3D& covariance_at) const;
 
 	SensorRoles roles_;
 	ObservationRawlog out_;
+	detail::GzipScan gzip_;
 	std::size_t entry_ = 0;
 	std::optional<std::string> imu_label_;
 	std::optional<CPose3D> imu_sensor_pose_;
@@ -199,6 +203,15 @@ void ObservationReader::convert()
 	if (origin_) out_.time_origin = mrpt::Clock::toDouble(*origin_);
 }
 
+/** A gzip stream cut on an object boundary reads "cleanly": compare the reading with the scan. */
+void ObservationReader::check_gzip_end(std::uint64_t read_bytes)
+{
+	const std::string fault = detail::gzip_end_fault(gzip_, read_bytes);
+	if (!fault.empty()) fail("truncated gzip stream: " + fault + ", after " + std::to_string(entry_) + " entries");
+	const std::string note = detail::gzip_trailing_note(gzip_);
+	if (!note.empty()) out_.warnings.push_back(note);
+}
+
 ObservationRawlog ObservationReader::run()
 {
 	try
@@ -210,6 +223,7 @@ ObservationRawlog ObservationReader::run()
 		fail(e.what());
 	}
 	check_input_file(out_.path, "rawlog");
+	gzip_ = detail::scan_gzip(out_.path);
 	mrpt::io::CFileGZInputStream f;
 	std::string error;
 	if (!f.open(out_.path, error)) fail("cannot open: " + error);
@@ -235,6 +249,7 @@ ObservationRawlog ObservationReader::run()
 		out_.entries++;
 		take(obj);
 	}
+	check_gzip_end(f.getPosition());
 	check_role_labels(roles_.imu, "imu", "CObservationIMU");
 	check_role_labels(roles_.pose_prior, "pose_prior", "CObservationRobotPose");
 	check_role_labels(roles_.odometry, "odometry", "CObservationRobotPose");

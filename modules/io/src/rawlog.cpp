@@ -1,6 +1,7 @@
 #include <swba/io/rawlog.h>
 
 #include "decoder_probe.h"
+#include "gzip_scan.h"
 
 #include <swba/core/file.h>
 #include <swba/core/memory_budget.h>
@@ -16,7 +17,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -30,53 +30,13 @@ using mrpt::obs::CActionCollection;
 using mrpt::obs::CObservationBearingRange;
 using mrpt::obs::CSensoryFrame;
 
-/** Uncompressed size mod 2^32 from the gzip trailer, if the file is gzip-compressed. */
-bool gzip_trailer_size(const std::string& path, uint32_t& isize)
+/** Bytes of serialised data in the file: its size, or for gzip its decompressed size. */
+std::uint64_t rawlog_data_size(const std::string& path, const detail::GzipScan& gz)
 {
-	std::ifstream f(path, std::ios::binary);
-	unsigned char magic[2] = {0, 0};
-	if (!f.read(reinterpret_cast<char*>(magic), 2)) return false;
-	if (magic[0] != 0x1f || magic[1] != 0x8b) return false;
-	f.seekg(-4, std::ios::end);
-	unsigned char b[4];
-	if (!f.read(reinterpret_cast<char*>(b), 4)) return false;
-	isize = uint32_t(b[0]) | (uint32_t(b[1]) << 8) | (uint32_t(b[2]) << 16) | (uint32_t(b[3]) << 24);
-	return true;
-}
-
-/** Bytes of serialised data in the file: its size, or for gzip its decompressed size (counted by
- * decompressing it, since the trailer's size is only mod 2^32 and comes from the file itself). */
-std::uint64_t rawlog_data_size(const std::string& path)
-{
-	uint32_t isize = 0;
-	if (!gzip_trailer_size(path, isize))
-	{
-		std::error_code ec;
-		const auto size = std::filesystem::file_size(path, ec);
-		return ec ? 0 : static_cast<std::uint64_t>(size);
-	}
-	mrpt::io::CFileGZInputStream f;
-	std::string error;
-	if (!f.open(path, error)) return 0;
-	std::vector<char> buffer(1 << 20);
-	std::uint64_t total = 0;
-	for (;;)
-	{
-		std::size_t n = 0;
-		try
-		{
-			n = f.Read(buffer.data(), buffer.size());
-		}
-		catch (const std::exception&)
-		{
-			break;  // damage: the reading proper reports it
-		}
-		// MRPT returns gzread's -1 (a damaged stream, e.g. a wrong CRC at its end) as SIZE_MAX, again at
-		// every call: without the second test this loop never ends (a fuzzer's 793-byte input).
-		if (n == 0 || n > buffer.size()) break;
-		total += n;
-	}
-	return total;
+	if (gz.gzip) return gz.data_bytes;
+	std::error_code ec;
+	const auto size = std::filesystem::file_size(path, ec);
+	return ec ? 0 : static_cast<std::uint64_t>(size);
 }
 
 /** True when an exception text says an allocation failed. */
@@ -243,7 +203,7 @@ class Reader
 	void take_entry(const mrpt::serialization::CSerializable::Ptr& obj);
 	void add_step(const CActionCollection::Ptr& acts, std::size_t act_entry, const CSensoryFrame::Ptr& sf,
 				  std::size_t sf_entry);
-	void check_gzip_trailer(const mrpt::io::CFileGZInputStream& f);
+	void check_gzip_end(const mrpt::io::CFileGZInputStream& f);
 	void check_contents() const;
 	std::string where(std::size_t k, std::size_t act_entry, std::size_t sf_entry) const
 	{
@@ -262,6 +222,7 @@ class Reader
 	std::uint64_t budget_ = 0;  ///< memory budget of the reading in bytes (0: none)
 	std::optional<detail::DecoderDeath> decoder_death_;  ///< where the probe's decoder died, if it did
 	bool budget_active_ = false;
+	detail::GzipScan gz_;  ///< the file's gzip members, scanned before the reading
 
 	std::string budget_exceeded() const
 	{
@@ -342,9 +303,11 @@ bool Reader::read_entry(mrpt::io::CFileGZInputStream& f, mrpt::serialization::CA
 	if (clean_end) return false;
 	if (!damage.empty())
 	{
-		if (entry_ == 0) fail("not an MRPT rawlog, or corrupt from the start (entry 0: " + damage + ")");
+		// gzread hands on what a damaged member decodes to: the scan says why MRPT's decoding failed.
+		const std::string why = gz_.damage.empty() ? damage : damage + "; " + detail::gzip_end_fault(gz_, 0);
+		if (entry_ == 0) fail("not an MRPT rawlog, or corrupt from the start (entry 0: " + why + ")");
 		truncated("truncated or corrupt at entry " + std::to_string(entry_) + " after " +
-				  std::to_string(out_.steps.size()) + " complete steps: " + damage);
+				  std::to_string(out_.steps.size()) + " complete steps: " + why);
 		return false;
 	}
 	out_.entries++;
@@ -381,14 +344,15 @@ void Reader::take_entry(const mrpt::serialization::CSerializable::Ptr& obj)
 	}
 }
 
-/** A gzip stream cut on an object boundary reads "cleanly": check the trailer's size. */
-void Reader::check_gzip_trailer(const mrpt::io::CFileGZInputStream& f)
+/** A gzip stream cut on an object boundary reads "cleanly": compare the reading with the scan. */
+void Reader::check_gzip_end(const mrpt::io::CFileGZInputStream& f)
 {
-	uint32_t isize = 0;
-	if (gzip_trailer_size(out_.path, isize) && uint32_t(f.getPosition() & 0xffffffffu) != isize)
-		truncated("truncated gzip stream (" + std::to_string(f.getPosition()) + " bytes decompressed, trailer says " +
-				  std::to_string(isize) + " mod 2^32) after entry " + std::to_string(entry_) + ", " +
+	const std::string fault = detail::gzip_end_fault(gz_, f.getPosition());
+	if (!fault.empty())
+		truncated("truncated gzip stream: " + fault + ", after " + std::to_string(entry_) + " entries, " +
 				  std::to_string(out_.steps.size()) + " complete steps");
+	const std::string note = detail::gzip_trailing_note(gz_);
+	if (!note.empty()) warn(note);
 }
 
 /** Steps, odometry and valid readings must all be there. */
@@ -421,8 +385,9 @@ Rawlog Reader::run()
 	const std::string& path = out_.path;
 	check_input_file(path, "rawlog");
 
+	gz_ = detail::scan_gzip(path);
 	budget_ = opt_.memory_budget == RawlogReaderOptions::kAutoMemoryBudget
-				  ? auto_memory_budget(rawlog_data_size(path))
+				  ? auto_memory_budget(rawlog_data_size(path, gz_))
 				  : opt_.memory_budget;
 	if (opt_.probe_decoder) decoder_death_ = detail::probe_decoder_in_child(path, budget_);
 	mrpt::io::CFileGZInputStream f;
@@ -438,7 +403,7 @@ Rawlog Reader::run()
 	}
 	budget.reset();
 	if (pending_) out_.ignored_entries++;  // trailing action (normal in the kf-slam demos)
-	if (clean_end) check_gzip_trailer(f);
+	if (clean_end) check_gzip_end(f);
 	check_contents();
 	out_.distinct_landmarks = ids_.size();
 	return std::move(out_);

@@ -471,6 +471,10 @@ RunReport run_inertial_app(const RunOptions& o, std::ostream& out, std::ostream&
 	log << "swba run: inertial rawlog " << o.rawlog << ": " << in.imu.size() << " IMU readings, " << in.pose_priors.size()
 		<< " pose priors, " << in.odometry.size() << " odometry poses; ground truth: "
 		<< (rep.ground_truth.empty() ? "none" : rep.ground_truth) << "\n";
+	if (raw.ignored_entries > 0)
+		log << "swba run: " << raw.ignored_entries << " of the " << raw.entries
+			<< " rawlog entries skipped (other classes, or labels with no role in [sensors])\n";
+	for (const auto& w : raw.warnings) log << "swba run: warning: " << w << "\n";
 	const std::vector<std::string> ignored = inertial_ignored_options(o);
 	for (std::size_t i = 0; i < ignored.size(); i++)
 		log << (i == 0 ? "swba run: warning: not used on an inertial rawlog (doc/inertial.md), ignored: " : ", ")

@@ -71,7 +71,7 @@ struct ObservationRawlog
 	std::vector<PoseReading> odometry;
 	std::size_t entries = 0;		  ///< objects read
 	std::size_t ignored_entries = 0;  ///< other classes, or labels with no role
-	std::vector<std::string> warnings;
+	std::vector<std::string> warnings;  ///< e.g. bytes after the last gzip member, ignored
 };
 
 /** True when the file's first object is a bare CObservation (an observation-format rawlog); false for
@@ -79,8 +79,9 @@ struct ObservationRawlog
 bool is_observation_rawlog(const std::string& path);
 
 /** Reads an observation-format rawlog. Throws std::runtime_error naming the file and the entry on an
- * unreadable file, an IMU observation lacking any of the six fields, decreasing timestamps of one
- * sensor, a covariance that is not symmetric positive semi-definite, or invalid roles. */
+ * unreadable file, a gzip stream that ends inside a member (even on an object boundary), an IMU
+ * observation lacking any of the six fields, decreasing timestamps of one sensor, a covariance that
+ * is not symmetric positive semi-definite, or invalid roles. */
 ObservationRawlog read_observation_rawlog(const std::string& path, const SensorRoles& roles = {});
 
 /** A CObservationIMU at MRPT time `origin + t` (100 ns ticks) with the six fields set by name. */

@@ -165,7 +165,7 @@ struct Rawlog
 /** Reads a whole rawlog (gzip-compressed or plain). Throws std::runtime_error naming the file and
  * the entry/step when: the file is missing or unreadable; it is not a rawlog; it is truncated or
  * corrupt (unless allow_truncated; gzip truncation is also detected when it ends on an object
- * boundary, through the gzip trailer's size); it yields no step; no step has odometry; no step has
+ * boundary, by inflating the gzip members once before the reading); it yields no step; no step has odometry; no step has
  * a valid range-bearing reading; an odometry mean or covariance is not finite, or a covariance has
  * a negative variance; a sensory frame holds several bearing-range observations with different
  * sensor poses; a per-reading covariance (validCovariances) correlates range, yaw and pitch (only
@@ -173,8 +173,9 @@ struct Rawlog
  * Corrupt length fields: MRPT 2.5's deserialisation allocates whatever a length or count field asks
  * for (gigabytes from a few hundred bytes; reproducers in fuzz/findings/mrpt/) before any check here
  * can run; options.memory_budget bounds that (such a file is then reported as corrupt at the entry
- * whose object asked for it). For gzip files the data size is found by decompressing once before
- * the reading. */
+ * whose object asked for it). For gzip files the data size is that scan's decompressed size.
+ * Concatenated gzip members read as one stream; bytes after the last member are ignored with a
+ * warning (zlib's gzread ignores them too). */
 Rawlog read_rawlog(const std::string& path, const RawlogReaderOptions& options = {});
 
 /** One line from an exception text: for MRPT's ("==== MRPT exception ====", "Message: …",
