@@ -2,6 +2,7 @@
 // fuzz/findings/mrpt/): read_rawlog's memory budget turns each into a one-line error naming the entry,
 // quickly and with the process's peak memory far below 1 GB; objects MRPT's decoder crashes on end the
 // reading the same way (the decoder probe).
+#include <swba/io/observation_rawlog.h>
 #include <swba/io/rawlog.h>
 
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 #include <chrono>
 #include <csignal>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -25,10 +27,12 @@ TEST(RawlogMemoryBudget, AutoBudgetIsBaseAndSixteenTimesTheData)
 	EXPECT_GT(swba::io::auto_memory_budget(~std::uint64_t(0) / 2), std::uint64_t(1) << 62);  // no overflow
 }
 
-TEST(RawlogMemoryBudget, CorruptLengthFieldsAreAnErrorNotAnAllocation)
+/** Runs `read` on each reproducer of fuzz/findings/mrpt/ (it must throw std::runtime_error, whose
+ * one-line text goes to `check`), each in under 10 s, with this process's and its probes' peak
+ * resident memory below 1 GiB. */
+void expect_each_reproducer_rejected(const std::function<void(const std::string&)>& read,
+									 const std::function<void(const std::string&)>& check)
 {
-	// In sanitizer builds (no address-space cap in the process) the decoder probe's capped child meets
-	// the allocation instead; either way the message names the budget.
 	const fs::path dir = fs::path(SWBA_SHARE_DIR) / ".." / "fuzz" / "findings" / "mrpt";
 	int files = 0;
 	for (const auto& e : fs::directory_iterator(dir))
@@ -39,14 +43,13 @@ TEST(RawlogMemoryBudget, CorruptLengthFieldsAreAnErrorNotAnAllocation)
 		const auto start = std::chrono::steady_clock::now();
 		try
 		{
-			swba::io::read_rawlog(e.path().string());
+			read(e.path().string());
 			ADD_FAILURE() << "read without an error";
 		}
 		catch (const std::runtime_error& err)
 		{
-			const std::string what = err.what();
-			EXPECT_NE(what.find("memory budget of 256 MiB"), std::string::npos) << what;
-			EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+			check(err.what());
+			EXPECT_EQ(std::string(err.what()).find('\n'), std::string::npos) << err.what();
 		}
 		EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
 	}
@@ -56,6 +59,28 @@ TEST(RawlogMemoryBudget, CorruptLengthFieldsAreAnErrorNotAnAllocation)
 	EXPECT_LT(usage.ru_maxrss, 1024 * 1024) << "peak RSS in KiB";  // < 1 GiB
 	ASSERT_EQ(getrusage(RUSAGE_CHILDREN, &usage), 0);
 	EXPECT_LT(usage.ru_maxrss, 1024 * 1024) << "the decoder probes' peak RSS in KiB";
+}
+
+TEST(RawlogMemoryBudget, CorruptLengthFieldsAreAnErrorNotAnAllocation)
+{
+	// In sanitizer builds (no address-space cap in the process) the decoder probe's capped child meets
+	// the allocation instead; either way the message names the budget.
+	expect_each_reproducer_rejected([](const std::string& path) { swba::io::read_rawlog(path); },
+									[](const std::string& what)
+									{ EXPECT_NE(what.find("memory budget of 256 MiB"), std::string::npos) << what; });
+}
+
+TEST(RawlogMemoryBudget, TheObservationReaderAndTheKindTestReadUnderTheBudgetToo)
+{
+	// `swba run` first asks is_observation_rawlog, which decodes the first object: unguarded, the
+	// 82-byte sensory-frame reproducer took 24 GB of resident memory there before the kernel killed it.
+	expect_each_reproducer_rejected(
+		[](const std::string& path)
+		{
+			EXPECT_FALSE(swba::io::is_observation_rawlog(path));
+			swba::io::read_observation_rawlog(path);
+		},
+		[](const std::string& what) { EXPECT_NE(what.find("entry "), std::string::npos) << what; });
 }
 
 TEST(RawlogDecoderProbe, AnObjectMrptsDecoderCrashesOnIsACorruptEntryNotACrash)

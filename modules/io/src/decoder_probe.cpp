@@ -64,7 +64,8 @@ void write_all(int fd, const void* data, std::size_t n)
 }
 
 /** The child: reports the index of each entry before decoding it; never returns. */
-[[noreturn]] void decode_all(const std::string& path, std::uint64_t budget_bytes, int report_fd)
+[[noreturn]] void decode_all(const std::string& path, std::uint64_t budget_bytes, std::uint64_t max_entries,
+							 int report_fd)
 {
 	// The child's death is the parent's datum, not a crash of the program: no crash handler of the
 	// parent's (a fuzzer's, a sanitizer's report hook) may act on it.
@@ -84,7 +85,7 @@ void write_all(int fd, const void* data, std::size_t n)
 		if (f.open(path, error))
 		{
 			auto arch = mrpt::serialization::archiveFrom(f);
-			for (std::uint64_t entry = 0;; entry++)
+			for (std::uint64_t entry = 0; entry < max_entries; entry++)
 			{
 				write_all(report_fd, &entry, sizeof entry);
 				mrpt::serialization::CSerializable::Ptr obj;
@@ -108,7 +109,8 @@ std::string describe(int status)
 }
 }  // namespace
 
-std::optional<DecoderDeath> probe_decoder_in_child(const std::string& path, std::uint64_t budget_bytes)
+std::optional<DecoderDeath> probe_decoder_in_child(const std::string& path, std::uint64_t budget_bytes,
+												   std::uint64_t max_entries)
 {
 	int fds[2];
 	if (::pipe(fds) != 0) throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
@@ -123,7 +125,7 @@ std::optional<DecoderDeath> probe_decoder_in_child(const std::string& path, std:
 	if (pid == 0)
 	{
 		::close(fds[0]);
-		decode_all(path, budget_bytes, fds[1]);
+		decode_all(path, budget_bytes, max_entries, fds[1]);
 	}
 	::close(fds[1]);
 	std::uint64_t last = 0, value = 0;

@@ -36,7 +36,7 @@ bool starts_member(const unsigned char* p, std::size_t n) { return n >= 2 && p[0
 GzipScan scan_gzip(const std::string& path)
 {
 	std::ifstream f(path, std::ios::binary);
-	if (!f) throw std::runtime_error("cannot open '" + path + "'");
+	if (!f) throw std::runtime_error("cannot open the file for reading");
 	GzipScan s;
 	std::vector<unsigned char> in(1 << 16), out(1 << 18);
 	f.read(reinterpret_cast<char*>(in.data()), 2);
@@ -53,7 +53,7 @@ GzipScan scan_gzip(const std::string& path)
 		if (z.avail_in == 0)
 		{
 			f.read(reinterpret_cast<char*>(in.data()), std::streamsize(in.size()));
-			if (f.bad()) throw std::runtime_error("cannot read '" + path + "'");
+			if (f.bad()) throw std::runtime_error("read error while scanning its gzip members");
 			z.next_in = in.data();
 			z.avail_in = static_cast<uInt>(f.gcount());
 			if (z.avail_in == 0) break;	 // end of file

@@ -23,7 +23,7 @@ struct GzipScan
 };
 
 /** Scans `path`; for a file that is not gzip-compressed returns {gzip = false} and reads 2 bytes.
- * Throws std::runtime_error only when the file cannot be opened or read. */
+ * Throws std::runtime_error (not naming the file: callers do) only when it cannot be opened or read. */
 GzipScan scan_gzip(const std::string& path);
 
 /** "" when a reader that reached a clean end after `read_bytes` decompressed bytes has read the whole

@@ -4,7 +4,8 @@
 #include <swba/core/lie.h>
 #include <swba/io/rawlog.h>
 
-#include <mrpt/io/CFileGZInputStream.h>
+#include "guarded_decoder.h"
+
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/io/zip.h>
 #include <mrpt/serialization/CArchive.h>
@@ -159,19 +160,21 @@ void write_observation_rawlog(const std::string& path, const std::vector<mrpt::o
 bool is_observation_rawlog(const std::string& path)
 {
 	check_input_file(path, "rawlog");
-	mrpt::io::CFileGZInputStream f;
-	std::string error;
-	if (!f.open(path, error)) throw std::runtime_error("rawlog '" + path + "': cannot open: " + error);
-	auto arch = mrpt::serialization::archiveFrom(f);
+	// The first object of an untrusted file, decoded under the readers' guards: a corrupt count field
+	// in it must not take the machine's memory before the reader proper can say what is wrong.
+	std::string damage;
 	mrpt::serialization::CSerializable::Ptr obj;
 	try
 	{
-		arch >> obj;
+		detail::GuardedDecoder decoder(path, RawlogReaderOptions::kAutoMemoryBudget, true, 1);
+		bool clean_end = false;
+		damage = decoder.next(0, obj, clean_end);
 	}
-	catch (const std::exception&)
+	catch (const std::runtime_error& e)
 	{
-		return false;  // not readable as a rawlog at all: the rawlog reader says why
+		throw std::runtime_error("rawlog '" + path + "': " + e.what());
 	}
-	return obj && IS_DERIVED(*obj, mrpt::obs::CObservation);
+	// Damage: not readable as either kind; the range-bearing reader says why.
+	return damage.empty() && obj && IS_DERIVED(*obj, mrpt::obs::CObservation);
 }
 }  // namespace swba::io

@@ -1,12 +1,11 @@
 // Reading observation-format rawlogs (swba/io/observation_rawlog.h): objects are collected per role
 // with their MRPT timestamps, then converted to the IMU frame with times from the earliest observation.
-#include "gzip_scan.h"
+#include "guarded_decoder.h"
 
 #include <swba/core/file.h>
 #include <swba/io/observation_rawlog.h>
 #include <swba/io/rawlog.h>
 
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <Eigen/Eigenvalues>
@@ -55,13 +54,13 @@ class ObservationReader
 	void take_pose(const CObservationRobotPose& o);
 	void check_role_labels(const std::vector<std::string>& role, const std::string& key,
 						   const std::string& class_name) const;
-	void check_gzip_end(std::uint64_t read_bytes);
+	void read_objects();
+	void check_gzip_end(const detail::GuardedDecoder& decoder);
 	void convert();
 	PoseReading to_imu_frame(const RawPose& p, const CPose3D& covariance_at) const;
 
 	SensorRoles roles_;
 	ObservationRawlog out_;
-	detail::GzipScan gzip_;
 	std::size_t entry_ = 0;
 	std::optional<std::string> imu_label_;
 	std::optional<CPose3D> imu_sensor_pose_;
@@ -204,12 +203,37 @@ void ObservationReader::convert()
 }
 
 /** A gzip stream cut on an object boundary reads "cleanly": compare the reading with the scan. */
-void ObservationReader::check_gzip_end(std::uint64_t read_bytes)
+void ObservationReader::check_gzip_end(const detail::GuardedDecoder& decoder)
 {
-	const std::string fault = detail::gzip_end_fault(gzip_, read_bytes);
+	const std::string fault = decoder.end_fault();
 	if (!fault.empty()) fail("truncated gzip stream: " + fault + ", after " + std::to_string(entry_) + " entries");
-	const std::string note = detail::gzip_trailing_note(gzip_);
+	const std::string note = decoder.trailing_note();
 	if (!note.empty()) out_.warnings.push_back(note);
+}
+
+/** Every object, decoded under the readers' guards (guarded_decoder.h), given to take(). */
+void ObservationReader::read_objects()
+{
+	std::optional<detail::GuardedDecoder> decoder;
+	try
+	{
+		decoder.emplace(out_.path, RawlogReaderOptions::kAutoMemoryBudget, true);
+	}
+	catch (const std::runtime_error& e)
+	{
+		fail(e.what());
+	}
+	for (bool clean_end = false;; entry_++)
+	{
+		mrpt::serialization::CSerializable::Ptr obj;
+		const std::string damage = decoder->next(entry_, obj, clean_end);
+		if (clean_end) break;
+		if (!damage.empty()) fail(at_entry() + damage);
+		out_.entries++;
+		take(obj);
+	}
+	decoder->release();
+	check_gzip_end(*decoder);
 }
 
 ObservationRawlog ObservationReader::run()
@@ -223,33 +247,7 @@ ObservationRawlog ObservationReader::run()
 		fail(e.what());
 	}
 	check_input_file(out_.path, "rawlog");
-	gzip_ = detail::scan_gzip(out_.path);
-	mrpt::io::CFileGZInputStream f;
-	std::string error;
-	if (!f.open(out_.path, error)) fail("cannot open: " + error);
-	auto arch = mrpt::serialization::archiveFrom(f);
-	for (;; entry_++)
-	{
-		mrpt::serialization::CSerializable::Ptr obj;
-		const uint64_t before = f.getPosition();
-		try
-		{
-			arch >> obj;
-		}
-		catch (const mrpt::serialization::CExceptionEOF& e)
-		{
-			if (f.getPosition() == before) break;
-			fail(at_entry() + "unexpected end of data inside the object (" + mrpt_exception_summary(e.what()) + ")");
-		}
-		catch (const std::exception& e)
-		{
-			fail(at_entry() + mrpt_exception_summary(e.what()));
-		}
-		if (!obj) fail(at_entry() + "null object");
-		out_.entries++;
-		take(obj);
-	}
-	check_gzip_end(f.getPosition());
+	read_objects();
 	check_role_labels(roles_.imu, "imu", "CObservationIMU");
 	check_role_labels(roles_.pose_prior, "pose_prior", "CObservationRobotPose");
 	check_role_labels(roles_.odometry, "odometry", "CObservationRobotPose");

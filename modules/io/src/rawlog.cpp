@@ -1,12 +1,10 @@
 #include <swba/io/rawlog.h>
 
-#include "decoder_probe.h"
-#include "gzip_scan.h"
+#include "guarded_decoder.h"
 
 #include <swba/core/file.h>
 #include <swba/core/memory_budget.h>
 
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CActionRobotMovement3D.h>
 #include <mrpt/obs/CObservation.h>
@@ -30,17 +28,6 @@ using mrpt::obs::CActionCollection;
 using mrpt::obs::CObservationBearingRange;
 using mrpt::obs::CSensoryFrame;
 
-/** Bytes of serialised data in the file: its size, or for gzip its decompressed size. */
-std::uint64_t rawlog_data_size(const std::string& path, const detail::GzipScan& gz)
-{
-	if (gz.gzip) return gz.data_bytes;
-	std::error_code ec;
-	const auto size = std::filesystem::file_size(path, ec);
-	return ec ? 0 : static_cast<std::uint64_t>(size);
-}
-
-/** True when an exception text says an allocation failed. */
-bool is_allocation_failure(const std::string& what) { return what.find("bad_alloc") != std::string::npos; }
 
 bool finite_pose(const mrpt::poses::CPose3D& p)
 {
@@ -197,13 +184,11 @@ class Reader
 		out_.truncated = true;
 		warn(msg);
 	}
-	bool read_entry(mrpt::io::CFileGZInputStream& f, mrpt::serialization::CArchive& arch, bool& clean_end);
-	std::string decode_entry(mrpt::io::CFileGZInputStream& f, mrpt::serialization::CArchive& arch,
-							 mrpt::serialization::CSerializable::Ptr& obj, bool& clean_end) const;
+	bool read_entry(detail::GuardedDecoder& decoder, bool& clean_end);
 	void take_entry(const mrpt::serialization::CSerializable::Ptr& obj);
 	void add_step(const CActionCollection::Ptr& acts, std::size_t act_entry, const CSensoryFrame::Ptr& sf,
 				  std::size_t sf_entry);
-	void check_gzip_end(const mrpt::io::CFileGZInputStream& f);
+	void check_gzip_end(const detail::GuardedDecoder& decoder);
 	void check_contents() const;
 	std::string where(std::size_t k, std::size_t act_entry, std::size_t sf_entry) const
 	{
@@ -219,18 +204,6 @@ class Reader
 	CActionCollection::Ptr pending_;  ///< the last action collection, waiting for its sensory frame
 	std::size_t pending_entry_ = 0;
 	std::size_t entry_ = 0;  ///< entries read
-	std::uint64_t budget_ = 0;  ///< memory budget of the reading in bytes (0: none)
-	std::optional<detail::DecoderDeath> decoder_death_;  ///< where the probe's decoder died, if it did
-	bool budget_active_ = false;
-	detail::GzipScan gz_;  ///< the file's gzip members, scanned before the reading
-
-	std::string budget_exceeded() const
-	{
-		if (!budget_active_) return "out of memory while decoding the object";
-		return "the object declares more data than the reading's memory budget of " +
-			std::to_string(budget_ >> 20) +
-			" MiB allows (a corrupt length or count field: MRPT's decoder allocates what the file declares)";
-	}
 };
 
 void Reader::add_step(
@@ -259,55 +232,18 @@ void Reader::add_step(
 	out_.steps.push_back(std::move(s));
 }
 
-/** Decodes the next object into `obj`; returns what is wrong with it ("" if nothing), or sets
- * clean_end at the end of the data on an object boundary. */
-std::string Reader::decode_entry(mrpt::io::CFileGZInputStream& f, mrpt::serialization::CArchive& arch,
-								 mrpt::serialization::CSerializable::Ptr& obj, bool& clean_end) const
-{
-	if (decoder_death_ && decoder_death_->entry == entry_)
-		return "MRPT's decoder does not survive this object: its probe process, decoding it " +
-			(budget_ > 0 ? "under the reading's memory budget of " + std::to_string(budget_ >> 20) + " MiB"
-						 : std::string("with no memory budget")) +
-			", was " + decoder_death_->how;
-	const uint64_t pos_before = f.getPosition();
-	try
-	{
-		arch >> obj;
-	}
-	catch (const mrpt::serialization::CExceptionEOF& e)
-	{
-		if (f.getPosition() == pos_before)
-		{
-			clean_end = true;
-			return "";
-		}
-		return "unexpected end of data inside the object (" + mrpt_exception_summary(e.what()) + ")";
-	}
-	catch (const std::bad_alloc&)
-	{
-		return budget_exceeded();
-	}
-	catch (const std::exception& e)
-	{
-		return is_allocation_failure(e.what()) ? budget_exceeded() : mrpt_exception_summary(e.what());
-	}
-	return obj ? "" : "null object";
-}
-
 /** Reads and takes the next entry; false at the end of the data: clean (at an object boundary) or
  * after damage that allow_truncated lets pass. */
-bool Reader::read_entry(mrpt::io::CFileGZInputStream& f, mrpt::serialization::CArchive& arch, bool& clean_end)
+bool Reader::read_entry(detail::GuardedDecoder& decoder, bool& clean_end)
 {
 	mrpt::serialization::CSerializable::Ptr obj;
-	const std::string damage = decode_entry(f, arch, obj, clean_end);
+	const std::string damage = decoder.next(entry_, obj, clean_end);
 	if (clean_end) return false;
 	if (!damage.empty())
 	{
-		// gzread hands on what a damaged member decodes to: the scan says why MRPT's decoding failed.
-		const std::string why = gz_.damage.empty() ? damage : damage + "; " + detail::gzip_end_fault(gz_, 0);
-		if (entry_ == 0) fail("not an MRPT rawlog, or corrupt from the start (entry 0: " + why + ")");
+		if (entry_ == 0) fail("not an MRPT rawlog, or corrupt from the start (entry 0: " + damage + ")");
 		truncated("truncated or corrupt at entry " + std::to_string(entry_) + " after " +
-				  std::to_string(out_.steps.size()) + " complete steps: " + why);
+				  std::to_string(out_.steps.size()) + " complete steps: " + damage);
 		return false;
 	}
 	out_.entries++;
@@ -345,13 +281,13 @@ void Reader::take_entry(const mrpt::serialization::CSerializable::Ptr& obj)
 }
 
 /** A gzip stream cut on an object boundary reads "cleanly": compare the reading with the scan. */
-void Reader::check_gzip_end(const mrpt::io::CFileGZInputStream& f)
+void Reader::check_gzip_end(const detail::GuardedDecoder& decoder)
 {
-	const std::string fault = detail::gzip_end_fault(gz_, f.getPosition());
+	const std::string fault = decoder.end_fault();
 	if (!fault.empty())
 		truncated("truncated gzip stream: " + fault + ", after " + std::to_string(entry_) + " entries, " +
 				  std::to_string(out_.steps.size()) + " complete steps");
-	const std::string note = detail::gzip_trailing_note(gz_);
+	const std::string note = decoder.trailing_note();
 	if (!note.empty()) warn(note);
 }
 
@@ -385,25 +321,22 @@ Rawlog Reader::run()
 	const std::string& path = out_.path;
 	check_input_file(path, "rawlog");
 
-	gz_ = detail::scan_gzip(path);
-	budget_ = opt_.memory_budget == RawlogReaderOptions::kAutoMemoryBudget
-				  ? auto_memory_budget(rawlog_data_size(path, gz_))
-				  : opt_.memory_budget;
-	if (opt_.probe_decoder) decoder_death_ = detail::probe_decoder_in_child(path, budget_);
-	mrpt::io::CFileGZInputStream f;
-	std::string open_error;
-	if (!f.open(path, open_error)) fail("cannot open: " + open_error);
-	auto arch = mrpt::serialization::archiveFrom(f);
-	std::optional<ScopedMemoryBudget> budget;
-	if (budget_ > 0) budget.emplace(budget_);
-	budget_active_ = budget && budget->active();
+	std::optional<detail::GuardedDecoder> decoder;
+	try
+	{
+		decoder.emplace(path, opt_.memory_budget, opt_.probe_decoder);
+	}
+	catch (const std::runtime_error& e)
+	{
+		fail(e.what());
+	}
 	bool clean_end = false;
-	while (!(opt_.max_steps && out_.steps.size() >= opt_.max_steps) && read_entry(f, arch, clean_end))
+	while (!(opt_.max_steps && out_.steps.size() >= opt_.max_steps) && read_entry(*decoder, clean_end))
 	{
 	}
-	budget.reset();
+	decoder->release();
 	if (pending_) out_.ignored_entries++;  // trailing action (normal in the kf-slam demos)
-	if (clean_end) check_gzip_end(f);
+	if (clean_end) check_gzip_end(*decoder);
 	check_contents();
 	out_.distinct_landmarks = ids_.size();
 	return std::move(out_);
