@@ -2,7 +2,7 @@
 # Fuzzing campaign over swba's readers (doc/fuzzing.md).
 #   scripts/fuzz-campaign.sh [SECONDS] [READER...]
 # SECONDS per harness (default 30: a smoke run CI can afford); READERs among
-# tum ground_truth g2o bal ini rawlog directba (default: all, one after the other).
+# tum ground_truth g2o bal ini rawlog observation_rawlog directba (default: all, one after the other).
 # Configures and builds build-fuzz/ with clang (libFuzzer + ASan/UBSan), then runs each harness
 # nice'd on one core in libFuzzer's fork mode (-fork=1: one worker at a time, restarted after an
 # out-of-memory or timeout input so that those are counted instead of ending the run; a crash ends it;
@@ -21,7 +21,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-30}
 [ $# -gt 0 ] && shift
 readers=("$@")
-[ ${#readers[@]} -eq 0 ] && readers=(tum ground_truth g2o bal ini rawlog directba)
+[ ${#readers[@]} -eq 0 ] && readers=(tum ground_truth g2o bal ini rawlog observation_rawlog directba)
 
 sanitizers=${FUZZ_SANITIZERS:-address,undefined}
 build=build-fuzz

@@ -195,29 +195,6 @@ TEST(DirectBAIO, WrongColumnCountsAndBadTokensGiveLineNumbers)
 	expect_error([&] { io::read_directba_dataset(t.dir.string()); }, {"poses.txt:1", "expected 8"});
 }
 
-TEST(DirectBAIO, TumWriterWritesWorldFromCameraPoses)
-{
-	const fs::path p = fs::temp_directory_path() / ("swba_directba_tum_" + std::to_string(::getpid()) + ".txt");
-	const std::vector<mrpt::poses::CPose3D> poses = {mrpt::poses::CPose3D(1, 2, 3, 0.1, -0.2, 0.3),
-													 mrpt::poses::CPose3D(-1, 0.5, 0, -2.0, 0.4, 1.0)};
-	io::write_directba_tum(p.string(), {0, 1}, poses);
-	std::ifstream f(p);
-	for (size_t i = 0; i < poses.size(); i++)
-	{
-		double t, x, y, z, qx, qy, qz, qw;
-		ASSERT_TRUE(f >> t >> x >> y >> z >> qx >> qy >> qz >> qw);
-		EXPECT_EQ(t, double(i));
-		EXPECT_NEAR(x, poses[i].x(), 1e-8);
-		EXPECT_NEAR(y, poses[i].y(), 1e-8);
-		EXPECT_NEAR(z, poses[i].z(), 1e-8);
-		const Eigen::Matrix3d R = Eigen::Quaterniond(qw, qx, qy, qz).normalized().toRotationMatrix();
-		EXPECT_LT((R - poses[i].getRotationMatrix().asEigen()).cwiseAbs().maxCoeff(), 1e-8);
-		EXPECT_GE(qw, 0.0);
-	}
-	fs::remove(p);
-	EXPECT_THROW(io::write_directba_tum("/nonexistent/dir/x.txt", {0}, {poses[0]}), std::runtime_error);
-}
-
 TEST(DirectBAIO, APngDeclaringGigabytesIsRefusedBeforeDecoding)
 {
 	// Signature and an IHDR chunk declaring 20000 × 20000 8-bit gray pixels (a few hundred kilobytes

@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <stdexcept>
 
@@ -140,11 +141,12 @@ TEST(GzipRangeBearing, StreamCutOnAnObjectBoundaryIsTruncated)
 	const std::string one = temp_path("one"), two = temp_path("two");
 	write_bytes(one, gzip_member(data, cut));
 	write_bytes(two, gzip_member(data.substr(0, ends[99])) + gzip_member(data.substr(ends[99]), cut - ends[99]));
-	for (const auto& [path, member] : {std::pair{one, "member 1"}, std::pair{two, "member 2"}})
+	for (const auto& file_member : {std::pair{one, "member 1"}, std::pair{two, "member 2"}})
 	{
+		const std::string path = file_member.first, member = file_member.second;
 		const std::string msg = expect_error([&] { read_rawlog(path); });
 		EXPECT_NE(msg.find(path), std::string::npos) << msg;
-		EXPECT_NE(msg.find(std::string("truncated gzip stream: the gzip stream ends inside ") + member), std::string::npos)
+		EXPECT_NE(msg.find("truncated gzip stream: the gzip stream ends inside " + member), std::string::npos)
 			<< msg;
 		EXPECT_NE(msg.find("after 602 entries, 300 complete steps"), std::string::npos) << msg;
 		RawlogReaderOptions lenient;

@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -212,23 +211,4 @@ DirectBADataset read_directba_dataset(const std::string& dir, const PinholeIntri
 	return ds;
 }
 
-void write_directba_tum(const std::string& path, const std::vector<double>& timestamps,
-						const std::vector<mrpt::poses::CPose3D>& world_from_camera)
-{
-	if (timestamps.size() != world_from_camera.size())
-		throw std::invalid_argument("write_directba_tum: timestamps and poses differ in number");
-	write_file_atomically(path, [&](std::ostream& f) {
-		char buf[256];
-		for (size_t i = 0; i < timestamps.size(); i++)
-		{
-			const auto& P = world_from_camera[i];
-			Eigen::Quaterniond q(Eigen::Matrix3d(P.getRotationMatrix().asEigen()));
-			q.normalize();
-			if (q.w() < 0) q.coeffs() = -q.coeffs();  // deterministic sign
-			std::snprintf(buf, sizeof(buf), "%.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", timestamps[i], P.x(), P.y(),
-						  P.z(), q.x(), q.y(), q.z(), q.w());
-			f << buf;
-		}
-	});
-}
 }  // namespace swba::io

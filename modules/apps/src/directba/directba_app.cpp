@@ -1,6 +1,7 @@
 // The `swba directba` application: the adjustment of a data set with its outputs, or the synthetic
 // check against ground truth (see directba.h).
 #include <swba/apps/directba.h>
+#include <swba/eval/trajectory.h>
 #include <swba/io/ply.h>
 
 #include <filesystem>
@@ -47,10 +48,14 @@ void write_outputs(const DirectBAAppOptions& options, const io::DirectBADataset&
 {
 	const std::filesystem::path dir(options.out_dir);
 	// The file's timestamps are all equal (1.46323e+09): TUM time = image index instead.
-	std::vector<double> t;
-	for (size_t i = 0; i < res.poses.size(); i++) t.push_back(double(i));
-	io::write_directba_tum((dir / "poses_initial.tum").string(), t, data.world_from_camera);
-	io::write_directba_tum((dir / "poses_final.tum").string(), t, res.poses);
+	eval::Trajectory initial, refined;
+	for (size_t i = 0; i < res.poses.size(); i++)
+	{
+		initial.push_back(double(i), data.world_from_camera[i]);
+		refined.push_back(double(i), res.poses[i]);
+	}
+	eval::write_tum((dir / "poses_initial.tum").string(), initial);
+	eval::write_tum((dir / "poses_final.tum").string(), refined);
 	io::write_ply((dir / "points_final.ply").string(), centres(res.poses), res.points);
 	log << "Wrote " << (dir / "poses_initial.tum").string() << ", poses_final.tum, points_final.ply\n";
 }

@@ -71,8 +71,4 @@ std::uint64_t image_memory_budget(std::uint64_t file_bytes);
 DirectBADataset read_directba_dataset(const std::string& dir,
 									  const PinholeIntrinsics& intrinsics = directba_dataset_intrinsics());
 
-/** Writes world-from-camera poses as a TUM trajectory (`t x y z qx qy qz qw`, single spaces,
- * 9 significant digits). Throws std::runtime_error if the file cannot be written. */
-void write_directba_tum(const std::string& path, const std::vector<double>& timestamps,
-						const std::vector<mrpt::poses::CPose3D>& world_from_camera);
 }  // namespace swba::io
